@@ -1,0 +1,226 @@
+#include "penumbra/jobs/schedule.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <queue>
+#include <sstream>
+#include <stdexcept>
+#include <unordered_map>
+
+namespace penumbra::jobs {
+namespace {
+
+// A fixed-size bitset over node indices, sized at run time.
+struct Bits {
+  std::vector<std::uint64_t> w;
+  explicit Bits(std::size_t n = 0) : w((n + 63) / 64, 0) {}
+  void set(std::size_t i) { w[i / 64] |= std::uint64_t{1} << (i % 64); }
+  bool test(std::size_t i) const { return (w[i / 64] >> (i % 64)) & 1u; }
+  void merge(const Bits& o) {
+    for (std::size_t k = 0; k < w.size(); ++k) w[k] |= o.w[k];
+  }
+};
+
+std::vector<std::string> sorted_names(const ecs::TypeSet& set) {
+  std::vector<std::string> names;
+  for (std::size_t t = 0; t < ecs::kMaxTypes; ++t) {
+    if (set.test(t)) names.emplace_back(ecs::type_info(static_cast<ecs::TypeId>(t)).name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+}  // namespace
+
+System& Schedule::push(std::string name, System::Kind kind) {
+  auto s = std::make_unique<System>();
+  s->name = std::move(name);
+  s->kind = kind;
+  if (kind == System::Kind::kSync) s->access.exclusive = true;
+  systems_.push_back(std::move(s));
+  built_ = false;
+  return *systems_.back();
+}
+
+void Schedule::add_sync_point(std::string name) { push(std::move(name), System::Kind::kSync); }
+
+void Schedule::build() {
+  // 1. Node list in registration order, with sync points inserted where deferred commands must
+  //    be applied before a later system can see their effect.
+  auto_syncs_.clear();
+  std::vector<System*> list;
+  ecs::TypeSet pending;
+  bool pending_spawn = false;
+  auto add_sync = [&](std::string name) {
+    auto s = std::make_unique<System>();
+    s->name = std::move(name);
+    s->kind = System::Kind::kSync;
+    s->access.exclusive = true;
+    list.push_back(s.get());
+    auto_syncs_.push_back(std::move(s));
+    pending.reset();
+    pending_spawn = false;
+  };
+  for (const auto& sp : systems_) {
+    System& s = *sp;
+    if (s.kind == System::Kind::kSync) {
+      list.push_back(&s);
+      pending.reset();
+      pending_spawn = false;
+      continue;
+    }
+    const bool sees_pending = s.access.touches(pending) || (pending & s.exclude).any() ||
+                              (pending_spawn && s.kind == System::Kind::kChunks);
+    if (sees_pending) add_sync("sync before " + s.name);
+    list.push_back(&s);
+    pending |= s.access.structural;
+    pending_spawn = pending_spawn || s.access.spawns;
+  }
+  if (pending.any() || pending_spawn) add_sync("sync: end of frame");
+
+  const std::size_t n = list.size();
+  std::unordered_map<std::string, std::uint32_t> index;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (!index.emplace(list[i]->name, i).second) {
+      throw std::invalid_argument("Schedule: two systems are named '" + list[i]->name + "'");
+    }
+  }
+
+  // 2. Direct edges: sync points against everything, conflicts (registration ordering), and
+  //    explicit constraints.
+  std::vector<std::vector<char>> edge(n, std::vector<char>(n, 0));
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t j = i + 1; j < n; ++j) {
+      const bool sync = list[i]->kind == System::Kind::kSync || list[j]->kind == System::Kind::kSync;
+      if (sync || (ordering_ == Ordering::kRegistration &&
+                   list[i]->access.conflicts_with(list[j]->access))) {
+        edge[i][j] = 1;
+      }
+    }
+  }
+  auto lookup = [&](const std::string& owner, const std::string& name) {
+    auto it = index.find(name);
+    if (it == index.end()) {
+      throw std::invalid_argument("Schedule: system '" + owner + "' is ordered against unknown system '" + name + "'");
+    }
+    return it->second;
+  };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (const auto& a : list[i]->after) edge[lookup(list[i]->name, a)][i] = 1;
+    for (const auto& b : list[i]->before) edge[i][lookup(list[i]->name, b)] = 1;
+  }
+
+  // 3. Topological order (Kahn, ties broken by registration position: deterministic).
+  auto topo_sort = [&]() {
+    std::vector<std::uint32_t> indeg(n, 0), order;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      for (std::uint32_t j = 0; j < n; ++j) indeg[j] += edge[i][j];
+    }
+    std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<>> ready;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (indeg[i] == 0) ready.push(i);
+    }
+    while (!ready.empty()) {
+      const std::uint32_t u = ready.top();
+      ready.pop();
+      order.push_back(u);
+      for (std::uint32_t v = 0; v < n; ++v) {
+        if (edge[u][v] && --indeg[v] == 0) ready.push(v);
+      }
+    }
+    if (order.size() != n) {
+      std::string cycle;
+      for (std::uint32_t i = 0; i < n; ++i) {
+        if (indeg[i] > 0) cycle += (cycle.empty() ? "" : ", ") + list[i]->name;
+      }
+      throw std::invalid_argument("Schedule: ordering constraints form a cycle among: " + cycle);
+    }
+    return order;
+  };
+  auto reachability = [&](const std::vector<std::uint32_t>& order) {
+    std::vector<Bits> reach(n, Bits(n));
+    for (auto it = order.rbegin(); it != order.rend(); ++it) {
+      for (std::uint32_t v = 0; v < n; ++v) {
+        if (edge[*it][v]) {
+          reach[*it].set(v);
+          reach[*it].merge(reach[v]);
+        }
+      }
+    }
+    return reach;
+  };
+  std::vector<std::uint32_t> order = topo_sort();
+  std::vector<Bits> reach = reachability(order);
+
+  // 4. Conflicting pairs no path orders: report them, then serialise them in registration
+  //    order so the frame stays race-free.
+  conflicts_.clear();
+  for (std::uint32_t i = 0; i < n; ++i) {
+    for (std::uint32_t j = i + 1; j < n; ++j) {
+      if (list[i]->access.conflicts_with(list[j]->access) && !reach[i].test(j) && !reach[j].test(i)) {
+        conflicts_.push_back({list[i]->name, list[j]->name});
+        edge[i][j] = 1;
+      }
+    }
+  }
+  if (!conflicts_.empty()) {
+    order = topo_sort();
+    reach = reachability(order);
+  }
+
+  // 5. Transitive reduction, then nodes in topological order.
+  std::vector<std::uint32_t> position(n);
+  for (std::uint32_t p = 0; p < n; ++p) position[order[p]] = p;
+  nodes_.assign(n, Node{});
+  for (std::uint32_t p = 0; p < n; ++p) nodes_[p].system = list[order[p]];
+  for (std::uint32_t u = 0; u < n; ++u) {
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (!edge[u][v]) continue;
+      bool implied = false;
+      for (std::uint32_t w = 0; w < n && !implied; ++w) {
+        implied = w != v && edge[u][w] && reach[w].test(v);
+      }
+      if (implied) continue;
+      nodes_[position[u]].successors.push_back(position[v]);
+      nodes_[position[v]].predecessors.push_back(position[u]);
+    }
+  }
+  for (Node& node : nodes_) {
+    std::sort(node.successors.begin(), node.successors.end());
+    std::sort(node.predecessors.begin(), node.predecessors.end());
+  }
+  built_ = true;
+}
+
+std::string Schedule::to_dot() const {
+  std::ostringstream out;
+  out << "digraph schedule {\n  rankdir=LR;\n  node [shape=box, fontname=\"monospace\"];\n";
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const System& s = *nodes_[i].system;
+    out << "  n" << i << " [label=\"" << s.name;
+    if (s.kind == System::Kind::kSync) {
+      out << "\", shape=diamond];\n";
+      continue;
+    }
+    const auto reads = sorted_names(s.access.reads & ~s.access.writes);
+    const auto writes = sorted_names(s.access.writes);
+    if (!reads.empty()) out << "\\nR: " << join(reads);
+    if (!writes.empty()) out << "\\nW: " << join(writes);
+    if (s.access.spawns) out << "\\n+ spawns";
+    if (s.access.structural.any()) out << "\\n+ adds/removes: " << join(sorted_names(s.access.structural));
+    out << "\"];\n";
+  }
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    for (std::uint32_t s : nodes_[i].successors) out << "  n" << i << " -> n" << s << ";\n";
+  }
+  out << "}\n";
+  return out.str();
+}
+
+}  // namespace penumbra::jobs
