@@ -69,11 +69,18 @@ TypeInfo make_type_info() {
 const TypeInfo& type_info(TypeId id);
 std::size_t registered_type_count();
 
+namespace detail {
+template <class U>
+TypeId canonical_type_id() {
+  static const TypeId id = register_type(make_type_info<U>());
+  return id;
+}
+}  // namespace detail
+
+// `T`, `const T` and `T&` share one id.
 template <class T>
 TypeId type_id() {
-  using U = std::remove_cvref_t<T>;
-  static const TypeId id = detail::register_type(detail::make_type_info<U>());
-  return id;
+  return detail::canonical_type_id<std::remove_cvref_t<T>>();
 }
 
 template <class... Ts>
