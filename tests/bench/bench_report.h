@@ -127,6 +127,28 @@ class Results {
   std::map<std::string, Entry> entries_;
 };
 
+// What Google Benchmark reported about the machine when the run started.
+struct Machine {
+  int num_cpus = 0;
+  double mhz = 0;
+  std::vector<double> load_avg;  // 1, 5, 15 minutes (empty where unavailable)
+
+  std::string text() const {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%d CPUs @ %.0f MHz, load average at start:", num_cpus, mhz);
+    std::string out = buf;
+    for (double l : load_avg) {
+      std::snprintf(buf, sizeof buf, " %.2f", l);
+      out += buf;
+    }
+    // Multi-threaded timings are only meaningful on an otherwise idle machine.
+    if (!load_avg.empty() && load_avg[0] > 0.25 * num_cpus) {
+      out += "  (busy machine? multi-thread rows are sensitive to other load)";
+    }
+    return out;
+  }
+};
+
 // Display reporter: forwards everything to a console reporter and records every run.
 class CapturingReporter : public benchmark::BenchmarkReporter {
  public:
@@ -136,8 +158,9 @@ class CapturingReporter : public benchmark::BenchmarkReporter {
         results_(&results) {}
 
   bool ReportContext(const Context& context) override {
-    num_cpus_ = context.cpu_info.num_cpus;
-    mhz_ = context.cpu_info.cycles_per_second * 1e-6;
+    machine_.num_cpus = context.cpu_info.num_cpus;
+    machine_.mhz = context.cpu_info.cycles_per_second * 1e-6;
+    machine_.load_avg = context.cpu_info.load_avg;
     return inner_.ReportContext(context);
   }
   void ReportRuns(const std::vector<Run>& reports) override {
@@ -146,14 +169,12 @@ class CapturingReporter : public benchmark::BenchmarkReporter {
   }
   void Finalize() override { inner_.Finalize(); }
 
-  int num_cpus() const { return num_cpus_; }
-  double mhz() const { return mhz_; }
+  const Machine& machine() const { return machine_; }
 
  private:
   benchmark::ConsoleReporter inner_;
   Results* results_;
-  int num_cpus_ = 0;
-  double mhz_ = 0;
+  Machine machine_;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -203,7 +224,7 @@ struct Row {
   }
 };
 
-inline std::optional<double> div(std::optional<double> a, std::optional<double> b) {
+inline std::optional<double> quotient(std::optional<double> a, std::optional<double> b) {
   if (!a || !b || *b == 0) return std::nullopt;
   return *a / *b;
 }
@@ -228,11 +249,11 @@ class Summary {
     r.unit = std::move(unit);
     r.value = value;
     r.baseline = baseline;
-    r.ratio = div(baseline, value);
+    r.ratio = quotient(baseline, value);
     r.ratio_def = "baseline/value";
     r.goal = goal;
     r.floor = floor;
-    r.floor_ratio = div(value, floor);
+    r.floor_ratio = quotient(value, floor);
     r.note = std::move(note);
     return add(std::move(r));
   }
@@ -243,13 +264,14 @@ class Summary {
                                           [&](const Row& r) { return r.status() == status; }));
   }
 
-  void print(std::ostream& out, std::string_view group) const {
+  void print(std::ostream& out, std::string_view group, const Machine& machine) const {
     std::size_t name_w = 4;
     for (const Row& r : rows_) name_w = std::max(name_w, r.name.size());
     std::string line;
     auto cell = [&](std::string_view s, std::size_t w, bool left = false) {
       std::string c(s);
-      if (c.size() < w) c = left ? c + std::string(w - c.size(), ' ') : std::string(w - c.size(), ' ') + c;
+      if (c.size() < w)
+        c = left ? c + std::string(w - c.size(), ' ') : std::string(w - c.size(), ' ') + c;
       line += c;
       line += ' ';
     };
@@ -268,7 +290,10 @@ class Summary {
     };
     const std::string head = header();
     const std::string rule(head.size(), '-');
-    out << "\n=== Penumbra benchmark summary: " << group << " ===\n" << head << "\n" << rule << "\n";
+    out << "\n=== Penumbra benchmark summary: " << group << " ===\n"
+        << machine.text() << "\n"
+        << head << "\n"
+        << rule << "\n";
     for (const Row& r : rows_) {
       line.clear();
       cell(r.name, name_w, true);
@@ -296,20 +321,24 @@ class Summary {
         << ", INFO " << count("INFO") << "\n";
   }
 
-  void write_json(std::ostream& out, std::string_view group, int num_cpus, double mhz) const {
+  void write_json(std::ostream& out, std::string_view group, const Machine& machine) const {
     char date[64] = "";
     const std::time_t now = std::time(nullptr);
     std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%S%z", std::localtime(&now));
     out << "{\n  \"group\": " << quote(group) << ",\n  \"date\": " << quote(date)
-        << ",\n  \"num_cpus\": " << num_cpus << ",\n  \"mhz_per_cpu\": " << jnum(mhz)
+        << ",\n  \"num_cpus\": " << machine.num_cpus
+        << ",\n  \"mhz_per_cpu\": " << jnum(machine.mhz) << ",\n  \"load_avg\": [";
+    for (std::size_t i = 0; i < machine.load_avg.size(); ++i)
+      out << (i ? ", " : "") << jnum(machine.load_avg[i]);
+    out << "]"
         << ",\n  \"pass\": " << count("PASS") << ",\n  \"miss\": " << count("MISS")
         << ",\n  \"na\": " << count("N/A") << ",\n  \"rows\": [";
     for (std::size_t i = 0; i < rows_.size(); ++i) {
       const Row& r = rows_[i];
-      out << (i ? ",\n" : "\n") << "    {\"name\": " << quote(r.name) << ", \"unit\": " << quote(r.unit)
-          << ", \"value\": " << jnum(r.value) << ", \"baseline\": " << jnum(r.baseline)
-          << ", \"ratio\": " << jnum(r.ratio) << ", \"ratio_def\": " << quote(r.ratio_def)
-          << ", \"goal\": ";
+      out << (i ? ",\n" : "\n") << "    {\"name\": " << quote(r.name)
+          << ", \"unit\": " << quote(r.unit) << ", \"value\": " << jnum(r.value)
+          << ", \"baseline\": " << jnum(r.baseline) << ", \"ratio\": " << jnum(r.ratio)
+          << ", \"ratio_def\": " << quote(r.ratio_def) << ", \"goal\": ";
       if (r.goal.metric == Goal::Metric::kNone) {
         out << "null";
       } else {
@@ -349,10 +378,18 @@ class Summary {
     std::string out = "\"";
     for (char c : s) {
       switch (c) {
-        case '"': out += "\\\""; break;
-        case '\\': out += "\\\\"; break;
-        case '\n': out += "\\n"; break;
-        case '\t': out += "\\t"; break;
+        case '"':
+          out += "\\\"";
+          break;
+        case '\\':
+          out += "\\\\";
+          break;
+        case '\n':
+          out += "\\n";
+          break;
+        case '\t':
+          out += "\\t";
+          break;
         default:
           if (static_cast<unsigned char>(c) < 0x20) {
             char buf[8];
@@ -409,7 +446,7 @@ inline int run_main(int argc, char** argv, std::string_view group,
   if (results.empty()) return 0;  // e.g. --benchmark_list_tests, or a filter matching nothing
 
   const Summary summary = summarize(results);
-  summary.print(std::cout, group);
+  summary.print(std::cout, group, reporter.machine());
   std::cout.flush();
   if (!summary_out.empty()) {
     const std::filesystem::path path(summary_out);
@@ -420,7 +457,7 @@ inline int run_main(int argc, char** argv, std::string_view group,
       std::cerr << "bench: cannot write --summary_out=" << summary_out << "\n";
       return 1;
     }
-    summary.write_json(file, group, reporter.num_cpus(), reporter.mhz());
+    summary.write_json(file, group, reporter.machine());
     std::cout << "summary written to " << summary_out << "\n";
   }
   return 0;

@@ -5,14 +5,19 @@
 #include <stdexcept>
 #include <string>
 
-namespace penumbra::jobs {
-namespace {
-
+// Named (not anonymous) namespace: the DOT snapshot spells type names the same on every compiler.
+namespace penumbra::jobs::schedule_test {
 struct Position {};
 struct Velocity {};
 struct Light {};
 struct Stats {};
 struct Dead {};
+}  // namespace penumbra::jobs::schedule_test
+
+namespace penumbra::jobs {
+namespace {
+
+using namespace schedule_test;
 
 bool has_edge(const Schedule& s, const std::string& from, const std::string& to) {
   const auto& nodes = s.nodes();
@@ -137,13 +142,13 @@ TEST(Schedule, DotSnapshot) {
   const std::string expected = R"(digraph schedule {
   rankdir=LR;
   node [shape=box, fontname="monospace"];
-  n0 [label="input\nW: penumbra::jobs::{anonymous}::Velocity"];
-  n1 [label="integrate\nR: penumbra::jobs::{anonymous}::Velocity\nW: penumbra::jobs::{anonymous}::Position"];
-  n2 [label="lights\nW: penumbra::jobs::{anonymous}::Light"];
-  n3 [label="cull\nR: penumbra::jobs::{anonymous}::Position\n+ adds/removes: penumbra::jobs::{anonymous}::Dead"];
-  n4 [label="stats\nR: penumbra::jobs::{anonymous}::Light, penumbra::jobs::{anonymous}::Position\nW: penumbra::jobs::{anonymous}::Stats"];
+  n0 [label="input\nW: penumbra::jobs::schedule_test::Velocity"];
+  n1 [label="integrate\nR: penumbra::jobs::schedule_test::Velocity\nW: penumbra::jobs::schedule_test::Position"];
+  n2 [label="lights\nW: penumbra::jobs::schedule_test::Light"];
+  n3 [label="cull\nR: penumbra::jobs::schedule_test::Position\n+ adds/removes: penumbra::jobs::schedule_test::Dead"];
+  n4 [label="stats\nR: penumbra::jobs::schedule_test::Light, penumbra::jobs::schedule_test::Position\nW: penumbra::jobs::schedule_test::Stats"];
   n5 [label="sync before reap", shape=diamond];
-  n6 [label="reap\nR: penumbra::jobs::{anonymous}::Dead\n+ spawns"];
+  n6 [label="reap\nR: penumbra::jobs::schedule_test::Dead\n+ spawns"];
   n7 [label="sync: end of frame", shape=diamond];
   n0 -> n1;
   n1 -> n3;

@@ -15,6 +15,7 @@
 #include <tbb/task_group.h>
 
 #include "penumbra/jobs/command_pool.h"
+#include "tsan_annotations.h"
 
 namespace penumbra::jobs {
 namespace {
@@ -41,6 +42,7 @@ struct Executor::Impl {
   Clock::time_point frame_start;
   std::unique_ptr<std::atomic<std::uint32_t>[]> pending;
   std::size_t pending_size = 0;
+  char frame_join = 0;  // TSan token: every task chain releases it, run() acquires it
 
   explicit Impl(int t)
       : threads(t > 0 ? t : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
@@ -81,9 +83,12 @@ void Executor::Impl::run_chunks(std::uint32_t k, System& s, std::size_t chunks) 
     grain = std::clamp<std::size_t>(grain, 1, std::max<std::size_t>(1, chunks / static_cast<std::size_t>(threads)));
   }
   std::atomic<std::int64_t> busy_ns{0};
+  char fork_token = 0, join_token = 0;  // TSan hand-off tokens for this parallel_for
+  tsan::release(&fork_token);
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, chunks, grain),
       [&](const tbb::blocked_range<std::size_t>& r) {
+        tsan::acquire(&fork_token);
         const auto t0 = Clock::now();
         body(r.begin(), r.end());
         const auto t1 = Clock::now();
@@ -93,8 +98,10 @@ void Executor::Impl::run_chunks(std::uint32_t k, System& s, std::size_t chunks) 
           stats.tasks.push_back({k, slot(), ns_between(frame_start, t0), ns_between(t0, t1),
                                  r.begin(), r.size()});
         }
+        tsan::release(&join_token);
       },
       tbb::simple_partitioner());
+  tsan::acquire(&join_token);
   node.ns_per_chunk = static_cast<double>(busy_ns.load()) / static_cast<double>(chunks);
 }
 
@@ -150,10 +157,18 @@ void Executor::Impl::run_from(std::uint32_t k, tbb::task_group* group) {
       if (!next) {
         next = succ;
       } else {
-        group->run([this, succ, group] { run_from(succ, group); });
+        const void* token = &pending[succ];
+        tsan::release(token);
+        group->run([this, succ, group, token] {
+          tsan::acquire(token);
+          run_from(succ, group);
+        });
       }
     }
-    if (!next) return;
+    if (!next) {
+      tsan::release(&frame_join);
+      return;
+    }
     k = *next;
   }
 }
@@ -199,9 +214,16 @@ const FrameStats& Executor::run(Schedule& schedule, ecs::World& world) {
     m.arena.execute([&] {
       tbb::task_group group;
       for (std::uint32_t k = 0; k < n; ++k) {
-        if (nodes[k].predecessors.empty()) group.run([&m, k, &group] { m.run_from(k, &group); });
+        if (!nodes[k].predecessors.empty()) continue;
+        const void* token = &m.pending[k];
+        tsan::release(token);
+        group.run([&m, k, &group, token] {
+          tsan::acquire(token);
+          m.run_from(k, &group);
+        });
       }
       group.wait();
+      tsan::acquire(&m.frame_join);
     });
   }
   m.stats.frame_ns = ns_between(m.frame_start, Clock::now());
