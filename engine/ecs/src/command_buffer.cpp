@@ -18,7 +18,10 @@ constexpr std::uint32_t kLocalBits = 24;
 
 CommandBuffer::CommandBuffer(std::uint32_t id) : id_(id) { assert(id < 256); }
 
-CommandBuffer::~CommandBuffer() { clear(); }
+CommandBuffer::~CommandBuffer() {
+  clear();
+  for (const Block& b : blocks_) std::free(b.data);
+}
 
 CommandBuffer::CommandBuffer(CommandBuffer&& other) noexcept
     : id_(other.id_),
