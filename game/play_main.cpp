@@ -43,16 +43,24 @@ Options parse(int argc, char** argv) {
       const std::string v = value();
       char* end = nullptr;
       const long n = std::strtol(v.c_str(), &end, 10);
-      if (end == v.c_str() || *end != '\0' || n < lo) usage((a + " needs an integer >= " + std::to_string(lo) + ", got '" + v + "'").c_str());
+      if (end == v.c_str() || *end != '\0' || n < lo)
+        usage((a + " needs an integer >= " + std::to_string(lo) + ", got '" + v + "'").c_str());
       return n;
     };
-    if (a == "--frames") o.frames = static_cast<int>(number(1));
-    else if (a == "--threads") o.threads = static_cast<int>(number(0));
-    else if (a == "--particles") o.particles = static_cast<std::size_t>(number(0));
-    else if (a == "--trace") o.trace = value();
-    else if (a == "--dot") o.dot = value();
-    else if (a == "--headless") {}  // always headless until the renderer lands
-    else usage(("unknown option " + a).c_str());
+    if (a == "--frames")
+      o.frames = static_cast<int>(number(1));
+    else if (a == "--threads")
+      o.threads = static_cast<int>(number(0));
+    else if (a == "--particles")
+      o.particles = static_cast<std::size_t>(number(0));
+    else if (a == "--trace")
+      o.trace = value();
+    else if (a == "--dot")
+      o.dot = value();
+    else if (a == "--headless") {
+    }  // always headless until the renderer lands
+    else
+      usage(("unknown option " + a).c_str());
   }
   return o;
 }

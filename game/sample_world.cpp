@@ -26,7 +26,8 @@ float unit_hash(std::uint32_t a, std::uint32_t b) {
 }
 
 void spawn_values(std::uint32_t key, std::uint32_t salt, Position& p, Velocity& v, Lifetime& l) {
-  p = {(unit_hash(key, salt) - 0.5f) * 2 * kHalfBox, (unit_hash(key, salt + 1) - 0.5f) * 2 * kHalfBox,
+  p = {(unit_hash(key, salt) - 0.5f) * 2 * kHalfBox,
+       (unit_hash(key, salt + 1) - 0.5f) * 2 * kHalfBox,
        (unit_hash(key, salt + 2) - 0.5f) * 2 * kHalfBox};
   v = {(unit_hash(key, salt + 3) - 0.5f) * 10, (unit_hash(key, salt + 4) - 0.5f) * 10,
        (unit_hash(key, salt + 5) - 0.5f) * 10};
@@ -41,9 +42,12 @@ void populate_sample_world(ecs::World& world, const SampleWorldConfig& config) {
   lights.count = config.lights < 16 ? config.lights : 16;
   for (std::size_t i = 0; i < lights.count; ++i) {
     const auto k = static_cast<std::uint32_t>(i);
-    lights.lights[i] = {(unit_hash(k, config.seed) - 0.5f) * 80, (unit_hash(k, config.seed + 1) - 0.5f) * 80,
-                        (unit_hash(k, config.seed + 2) - 0.5f) * 80, 50 * unit_hash(k, 11),
-                        50 * unit_hash(k, 12), 50 * unit_hash(k, 13)};
+    lights.lights[i] = {(unit_hash(k, config.seed) - 0.5f) * 80,
+                        (unit_hash(k, config.seed + 1) - 0.5f) * 80,
+                        (unit_hash(k, config.seed + 2) - 0.5f) * 80,
+                        50 * unit_hash(k, 11),
+                        50 * unit_hash(k, 12),
+                        50 * unit_hash(k, 13)};
   }
   for (std::size_t i = 0; i < config.particles; ++i) {
     Position p;
@@ -82,49 +86,52 @@ void add_sample_systems(jobs::Schedule& s) {
   });
 
   // Expired particles are destroyed and replaced by a fresh one (deferred commands).
-  s.add_chunks<Lifetime>("age", [](jobs::SystemContext& ctx, const ecs::ChunkView<Lifetime>& c) {
-     const FrameTime& t = ctx.world().resource<FrameTime>();
-     auto life = c.get<Lifetime>();
-     const auto ents = c.entities();
-     for (std::size_t i = 0; i < c.size(); ++i) {
-       life[i].seconds -= t.dt;
-       if (life[i].seconds > 0) continue;
-       auto& cmd = ctx.commands();
-       cmd.destroy(ents[i]);
-       Position p;
-       Velocity v;
-       Lifetime l;
-       spawn_values(ents[i].index, static_cast<std::uint32_t>(t.frame) * 16u, p, v, l);
-       const ecs::Entity e = cmd.create();
-       cmd.add(e, p);
-       cmd.add(e, v);
-       cmd.add(e, l);
-       cmd.add(e, Irradiance{});
-     }
-   })
+  s.add_chunks<Lifetime>("age",
+                         [](jobs::SystemContext& ctx, const ecs::ChunkView<Lifetime>& c) {
+                           const FrameTime& t = ctx.world().resource<FrameTime>();
+                           auto life = c.get<Lifetime>();
+                           const auto ents = c.entities();
+                           for (std::size_t i = 0; i < c.size(); ++i) {
+                             life[i].seconds -= t.dt;
+                             if (life[i].seconds > 0) continue;
+                             auto& cmd = ctx.commands();
+                             cmd.destroy(ents[i]);
+                             Position p;
+                             Velocity v;
+                             Lifetime l;
+                             spawn_values(ents[i].index, static_cast<std::uint32_t>(t.frame) * 16u,
+                                          p, v, l);
+                             const ecs::Entity e = cmd.create();
+                             cmd.add(e, p);
+                             cmd.add(e, v);
+                             cmd.add(e, l);
+                             cmd.add(e, Irradiance{});
+                           }
+                         })
       .reads<FrameTime>()
       .spawns();
 
   s.add_reduce<Centroid, const Position>(
-      "centroid", Centroid{},
-      [](const ecs::ChunkView<const Position>& c, Centroid& acc) {
-        for (const Position& p : c.get<const Position>()) {
-          acc.x += p.x;
-          acc.y += p.y;
-          acc.z += p.z;
-        }
-        acc.count += c.size();
-      },
-      [](Centroid& a, const Centroid& b) {
-        a.x += b.x;
-        a.y += b.y;
-        a.z += b.z;
-        a.count += b.count;
-      },
-      [](jobs::SystemContext& ctx, Centroid& total) {
-        const float inv = total.count > 0 ? 1.0f / static_cast<float>(total.count) : 0.0f;
-        ctx.world().resource<Centroid>() = {total.x * inv, total.y * inv, total.z * inv, total.count};
-      })
+       "centroid", Centroid{},
+       [](const ecs::ChunkView<const Position>& c, Centroid& acc) {
+         for (const Position& p : c.get<const Position>()) {
+           acc.x += p.x;
+           acc.y += p.y;
+           acc.z += p.z;
+         }
+         acc.count += c.size();
+       },
+       [](Centroid& a, const Centroid& b) {
+         a.x += b.x;
+         a.y += b.y;
+         a.z += b.z;
+         a.count += b.count;
+       },
+       [](jobs::SystemContext& ctx, Centroid& total) {
+         const float inv = total.count > 0 ? 1.0f / static_cast<float>(total.count) : 0.0f;
+         ctx.world().resource<Centroid>() = {total.x * inv, total.y * inv, total.z * inv,
+                                             total.count};
+       })
       .writes<Centroid>();
 
   s.add_chunks<const Position, Velocity>(
@@ -141,22 +148,24 @@ void add_sample_systems(jobs::Schedule& s) {
        })
       .reads<Centroid, FrameTime>();
 
-  s.add_task("move_lights", [](jobs::SystemContext& ctx) {
-     SampleLights& l = ctx.world().resource<SampleLights>();
-     const float a = ctx.world().resource<FrameTime>().dt * 0.3f;
-     const float ca = std::cos(a), sa = std::sin(a);
-     for (std::size_t i = 0; i < l.count; ++i) {
-       const float x = l.lights[i].x, z = l.lights[i].z;
-       l.lights[i].x = ca * x - sa * z;
-       l.lights[i].z = sa * x + ca * z;
-     }
-   })
+  s.add_task("move_lights",
+             [](jobs::SystemContext& ctx) {
+               SampleLights& l = ctx.world().resource<SampleLights>();
+               const float a = ctx.world().resource<FrameTime>().dt * 0.3f;
+               const float ca = std::cos(a), sa = std::sin(a);
+               for (std::size_t i = 0; i < l.count; ++i) {
+                 const float x = l.lights[i].x, z = l.lights[i].z;
+                 l.lights[i].x = ca * x - sa * z;
+                 l.lights[i].z = sa * x + ca * z;
+               }
+             })
       .reads<FrameTime>()
       .writes<SampleLights>();
 
   // Inverse-square point lighting per particle: the compute-bound stand-in for a lighting pass.
   s.add_chunks<const Position, Irradiance>(
-       "light", [](jobs::SystemContext& ctx, const ecs::ChunkView<const Position, Irradiance>& c) {
+       "light",
+       [](jobs::SystemContext& ctx, const ecs::ChunkView<const Position, Irradiance>& c) {
          const SampleLights& l = ctx.world().resource<SampleLights>();
          auto p = c.get<const Position>();
          auto e = c.get<Irradiance>();

@@ -69,9 +69,9 @@ TEST(CommandBuffer, CommandsOnDeadEntitiesAreDropped) {
   CommandBuffer buf;
   CommandWriter cmd(buf, 0);
   cmd.destroy(e);
-  cmd.destroy(e);         // second destroy: dropped
-  cmd.add(e, Hp{1});      // add to destroyed: dropped
-  cmd.remove<Hp>(e);      // remove from destroyed: dropped
+  cmd.destroy(e);     // second destroy: dropped
+  cmd.add(e, Hp{1});  // add to destroyed: dropped
+  cmd.remove<Hp>(e);  // remove from destroyed: dropped
   CommandBuffer* bufs[] = {&buf};
   const ApplyStats s = apply_commands(w, bufs);
   EXPECT_EQ(s.applied, 1u);

@@ -69,7 +69,7 @@ TEST(Query, ChangeDetectionPerChunkAndColumn) {
   auto q = w.query<P, const V>();
   const std::size_t n = q.prepare();
   ASSERT_GE(n, 2u);
-  q.chunk(1, 11).get<P>()[0].x = 5;  // write access to chunk 1 only
+  q.chunk(1, 11).get<P>()[0].x = 5;     // write access to chunk 1 only
   (void)q.chunk(0, 11).get<const P>();  // read access stamps nothing
   EXPECT_FALSE(q.chunk(0).changed_since<P>(10));
   EXPECT_TRUE(q.chunk(1).changed_since<P>(10));

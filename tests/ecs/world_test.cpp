@@ -139,13 +139,34 @@ TEST(World, RandomOperationsMatchReferenceModel) {
           model.erase(e.bits());
         }
         break;
-      case 2: w.add(e, A{value}); m.a = value; break;
-      case 3: w.add(e, B{value * 0.5}); m.b = value * 0.5; break;
-      case 4: w.add(e, C{std::to_string(value) + " long enough to defeat SSO"}); m.c = std::to_string(value) + " long enough to defeat SSO"; break;
-      case 5: w.add(e, Tag{}); m.tag = true; break;
-      case 6: ASSERT_EQ(w.remove<A>(e), m.a.has_value()); m.a.reset(); break;
-      case 7: ASSERT_EQ(w.remove<C>(e), m.c.has_value()); m.c.reset(); break;
-      case 8: ASSERT_EQ(w.remove<Tag>(e), m.tag); m.tag = false; break;
+      case 2:
+        w.add(e, A{value});
+        m.a = value;
+        break;
+      case 3:
+        w.add(e, B{value * 0.5});
+        m.b = value * 0.5;
+        break;
+      case 4:
+        w.add(e, C{std::to_string(value) + " long enough to defeat SSO"});
+        m.c = std::to_string(value) + " long enough to defeat SSO";
+        break;
+      case 5:
+        w.add(e, Tag{});
+        m.tag = true;
+        break;
+      case 6:
+        ASSERT_EQ(w.remove<A>(e), m.a.has_value());
+        m.a.reset();
+        break;
+      case 7:
+        ASSERT_EQ(w.remove<C>(e), m.c.has_value());
+        m.c.reset();
+        break;
+      case 8:
+        ASSERT_EQ(w.remove<Tag>(e), m.tag);
+        m.tag = false;
+        break;
       case 9: {
         const Entity f = w.create_with(A{value}, C{"made whole"});
         model[f.bits()] = {f, Model{value, std::nullopt, std::string("made whole"), false}};

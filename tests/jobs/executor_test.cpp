@@ -30,10 +30,12 @@ TEST_P(ExecutorTest, WriterRunsBeforeReaderEveryFrame) {
   w.emplace_resource<Counter>();
   std::vector<int> seen;
   Schedule s;
-  s.add_task("bump", [](SystemContext& ctx) { ++ctx.world().resource<Counter>().value; })
-      .writes<Counter>();
-  s.add_task("read", [&](SystemContext& ctx) { seen.push_back(ctx.world().resource<Counter>().value); })
-      .reads<Counter>();
+  s.add_task("bump", [](SystemContext& ctx) {
+     ++ctx.world().resource<Counter>().value;
+   }).writes<Counter>();
+  s.add_task("read", [&](SystemContext& ctx) {
+     seen.push_back(ctx.world().resource<Counter>().value);
+   }).reads<Counter>();
   Executor ex(GetParam());
   for (int f = 0; f < 50; ++f) ex.run(s, w);
   ASSERT_EQ(seen.size(), 50u);
@@ -91,9 +93,11 @@ TEST_P(ExecutorTest, ChangeDetectionSkipsUntouchedChunks) {
   for (int i = 0; i < 50000; ++i) ents.push_back(w.create_with(Position{}, Velocity{}));
   std::atomic<std::size_t> changed_chunks{0};
   Schedule s;
-  s.add_chunks<const Position>("watch", [&](SystemContext& ctx, const ecs::ChunkView<const Position>& c) {
-    if (c.changed_since<const Position>(ctx.last_run_tick())) changed_chunks.fetch_add(1);
-  });
+  s.add_chunks<const Position>("watch",
+                               [&](SystemContext& ctx, const ecs::ChunkView<const Position>& c) {
+                                 if (c.changed_since<const Position>(ctx.last_run_tick()))
+                                   changed_chunks.fetch_add(1);
+                               });
   Executor ex(GetParam());
   ex.run(s, w);
   const std::size_t all = ex.last_frame().systems[0].chunks;
@@ -113,9 +117,11 @@ TEST_P(ExecutorTest, ChangesBySystemsEarlierOrLaterInTheFrameAreSeen) {
   std::atomic<std::size_t> changed{0};
   Schedule s;
   // "watch" runs before "move" in the frame; it must still see move's writes on the next frame.
-  s.add_chunks<const Position>("watch", [&](SystemContext& ctx, const ecs::ChunkView<const Position>& c) {
-    if (c.changed_since<const Position>(ctx.last_run_tick())) changed.fetch_add(1);
-  });
+  s.add_chunks<const Position>("watch",
+                               [&](SystemContext& ctx, const ecs::ChunkView<const Position>& c) {
+                                 if (c.changed_since<const Position>(ctx.last_run_tick()))
+                                   changed.fetch_add(1);
+                               });
   s.add_each<Position>("move", [](Position& p) { p.x += 1; });
   Executor ex(GetParam());
   ex.run(s, w);
@@ -151,7 +157,8 @@ TEST_P(ExecutorTest, ReductionIsCombinedInChunkOrder) {
       [](const ecs::ChunkView<const Position>& c, double& acc) {
         for (const Position& p : c.get<const Position>()) acc += p.x;
       },
-      [](double& a, const double& b) { a += b; }, [&](SystemContext&, double& total) { got = total; });
+      [](double& a, const double& b) { a += b; },
+      [&](SystemContext&, double& total) { got = total; });
   Executor ex(GetParam());
   ex.run(s, w);
   EXPECT_EQ(got, expected);  // bit-identical, not just close

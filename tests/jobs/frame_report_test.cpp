@@ -23,7 +23,8 @@ TEST(FrameReport, TimingTableAndTraceNameEverySystem) {
   ecs::World w;
   for (int i = 0; i < 20000; ++i) w.create_with(Position{}, Velocity{1, 0, 0});
   Schedule s;
-  s.add_each<Position, const Velocity>("integrate", [](Position& p, const Velocity& v) { p.x += v.x; });
+  s.add_each<Position, const Velocity>("integrate",
+                                       [](Position& p, const Velocity& v) { p.x += v.x; });
   s.add_each<const Position>("observe", [](const Position&) {});
   Executor ex(2);
   ex.set_trace_tasks(true);

@@ -9,7 +9,9 @@
 namespace penumbra::ecs {
 namespace {
 constexpr std::size_t kAlign = 64;
-std::size_t align_up(std::size_t v) { return (v + kAlign - 1) & ~(kAlign - 1); }
+std::size_t align_up(std::size_t v) {
+  return (v + kAlign - 1) & ~(kAlign - 1);
+}
 }  // namespace
 
 Archetype::Archetype(std::uint32_t id, std::vector<TypeId> sorted_types)

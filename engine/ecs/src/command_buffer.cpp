@@ -16,7 +16,9 @@ constexpr std::size_t kAlign = 64;
 constexpr std::uint32_t kLocalBits = 24;
 }  // namespace
 
-CommandBuffer::CommandBuffer(std::uint32_t id) : id_(id) { assert(id < 256); }
+CommandBuffer::CommandBuffer(std::uint32_t id) : id_(id) {
+  assert(id < 256);
+}
 
 CommandBuffer::~CommandBuffer() {
   clear();
@@ -51,7 +53,8 @@ void CommandBuffer::clear() {
 }
 
 Entity CommandBuffer::record_create(std::uint64_t key, std::uint32_t seq) {
-  if (created_ >= (1u << kLocalBits)) throw std::length_error("CommandBuffer: too many creates before apply");
+  if (created_ >= (1u << kLocalBits))
+    throw std::length_error("CommandBuffer: too many creates before apply");
   const Entity placeholder{(id_ << kLocalBits) | created_++, Entity::kPendingGeneration};
   commands_.push_back({key, seq, Op::kCreate, 0, placeholder, nullptr});
   return placeholder;

@@ -21,7 +21,8 @@ TypeId detail::register_type(const TypeInfo& info) {
   Registry& r = registry();
   std::lock_guard lock(r.mutex);
   if (r.infos.size() >= kMaxTypes) {
-    std::fprintf(stderr, "penumbra::ecs: more than %zu component/resource types (registering %.*s)\n",
+    std::fprintf(stderr,
+                 "penumbra::ecs: more than %zu component/resource types (registering %.*s)\n",
                  kMaxTypes, static_cast<int>(info.name.size()), info.name.data());
     std::abort();
   }

@@ -6,7 +6,9 @@
 
 namespace penumbra::ecs {
 
-World::World() : resources_(kMaxTypes) { empty_ = &archetype_for(TypeSet{}); }
+World::World() : resources_(kMaxTypes) {
+  empty_ = &archetype_for(TypeSet{});
+}
 
 World::~World() = default;
 
@@ -41,7 +43,8 @@ Entity World::allocate_entity() {
     index = free_.back();
     free_.pop_back();
   } else {
-    if (slots_.size() >= Entity::kInvalidIndex) throw std::length_error("penumbra::ecs: out of entity slots");
+    if (slots_.size() >= Entity::kInvalidIndex)
+      throw std::length_error("penumbra::ecs: out of entity slots");
     index = static_cast<std::uint32_t>(slots_.size());
     slots_.emplace_back();
   }
@@ -57,7 +60,9 @@ const World::Slot* World::live_slot(Entity e) const {
   return &s;
 }
 
-bool World::alive(Entity e) const { return live_slot(e) != nullptr; }
+bool World::alive(Entity e) const {
+  return live_slot(e) != nullptr;
+}
 
 Entity World::create() {
   const Entity e = allocate_entity();

@@ -19,7 +19,9 @@ struct CommandPool::Impl {
 CommandPool::CommandPool() : impl_(std::make_unique<Impl>()) {}
 CommandPool::~CommandPool() = default;
 
-ecs::CommandBuffer& CommandPool::local() { return impl_->buffers.local(); }
+ecs::CommandBuffer& CommandPool::local() {
+  return impl_->buffers.local();
+}
 
 ecs::ApplyStats CommandPool::apply(ecs::World& world) {
   std::vector<ecs::CommandBuffer*> all;
@@ -35,7 +37,9 @@ std::size_t CommandPool::pending() const {
 
 ecs::CommandWriter& SystemContext::commands() {
   if (!writer_) {
-    if (pool_ == nullptr) throw std::logic_error("SystemContext::commands(): no command pool (system run outside an Executor)");
+    if (pool_ == nullptr)
+      throw std::logic_error(
+          "SystemContext::commands(): no command pool (system run outside an Executor)");
     writer_.emplace(pool_->local(), command_key_);
   }
   return *writer_;

@@ -23,7 +23,9 @@ using Clock = std::chrono::steady_clock;
 std::int64_t ns_between(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count();
 }
-int slot() { return std::max(0, tbb::this_task_arena::current_thread_index()); }
+int slot() {
+  return std::max(0, tbb::this_task_arena::current_thread_index());
+}
 }  // namespace
 
 struct Executor::Impl {
@@ -48,7 +50,8 @@ struct Executor::Impl {
       : threads(t > 0 ? t : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))),
         arena(threads) {
     if (threads > static_cast<int>(tbb::this_task_arena::max_concurrency())) {
-      allow.emplace(tbb::global_control::max_allowed_parallelism, static_cast<std::size_t>(threads));
+      allow.emplace(tbb::global_control::max_allowed_parallelism,
+                    static_cast<std::size_t>(threads));
     }
   }
 
@@ -73,14 +76,16 @@ void Executor::Impl::run_chunks(std::uint32_t k, System& s, std::size_t chunks) 
   if (threads == 1 || chunks == 1) {
     const auto t0 = Clock::now();
     body(0, chunks);
-    node.ns_per_chunk = static_cast<double>(ns_between(t0, Clock::now())) / static_cast<double>(chunks);
+    node.ns_per_chunk =
+        static_cast<double>(ns_between(t0, Clock::now())) / static_cast<double>(chunks);
     return;
   }
   // Grain: enough chunks per task for about kTargetTaskNs of work, from the last frame.
   std::size_t grain = 1;
   if (node.ns_per_chunk > 0) {
     grain = static_cast<std::size_t>(static_cast<double>(kTargetTaskNs) / node.ns_per_chunk);
-    grain = std::clamp<std::size_t>(grain, 1, std::max<std::size_t>(1, chunks / static_cast<std::size_t>(threads)));
+    grain = std::clamp<std::size_t>(
+        grain, 1, std::max<std::size_t>(1, chunks / static_cast<std::size_t>(threads)));
   }
   std::atomic<std::int64_t> busy_ns{0};
   char fork_token = 0, join_token = 0;  // TSan hand-off tokens for this parallel_for
@@ -95,8 +100,8 @@ void Executor::Impl::run_chunks(std::uint32_t k, System& s, std::size_t chunks) 
         busy_ns.fetch_add(ns_between(t0, t1), std::memory_order_relaxed);
         if (trace_tasks) {
           std::lock_guard lock(trace_mutex);
-          stats.tasks.push_back({k, slot(), ns_between(frame_start, t0), ns_between(t0, t1),
-                                 r.begin(), r.size()});
+          stats.tasks.push_back(
+              {k, slot(), ns_between(frame_start, t0), ns_between(t0, t1), r.begin(), r.size()});
         }
         tsan::release(&join_token);
       },
@@ -176,9 +181,15 @@ void Executor::Impl::run_from(std::uint32_t k, tbb::task_group* group) {
 Executor::Executor(int threads) : impl_(std::make_unique<Impl>(threads)) {}
 Executor::~Executor() = default;
 
-int Executor::threads() const { return impl_->threads; }
-void Executor::set_trace_tasks(bool on) { impl_->trace_tasks = on; }
-const FrameStats& Executor::last_frame() const { return impl_->stats; }
+int Executor::threads() const {
+  return impl_->threads;
+}
+void Executor::set_trace_tasks(bool on) {
+  impl_->trace_tasks = on;
+}
+const FrameStats& Executor::last_frame() const {
+  return impl_->stats;
+}
 
 const FrameStats& Executor::run(Schedule& schedule, ecs::World& world) {
   Impl& m = *impl_;
@@ -202,7 +213,8 @@ const FrameStats& Executor::run(Schedule& schedule, ecs::World& world) {
     m.pending_size = n;
   }
   for (std::size_t i = 0; i < n; ++i) {
-    m.pending[i].store(static_cast<std::uint32_t>(nodes[i].predecessors.size()), std::memory_order_relaxed);
+    m.pending[i].store(static_cast<std::uint32_t>(nodes[i].predecessors.size()),
+                       std::memory_order_relaxed);
   }
   m.frame_start = Clock::now();
   if (m.threads == 1) {

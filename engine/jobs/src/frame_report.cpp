@@ -64,8 +64,8 @@ std::string chrome_trace_json(std::span<const FrameStats> frames) {
   std::ostringstream out;
   out << "{\"displayTimeUnit\":\"ns\",\"traceEvents\":[\n";
   bool first = true;
-  auto event = [&](std::string_view name, std::string_view cat, int tid, double ts_us, double dur_us,
-                   const std::string& args) {
+  auto event = [&](std::string_view name, std::string_view cat, int tid, double ts_us,
+                   double dur_us, const std::string& args) {
     out << (first ? "" : ",\n") << "{\"name\":\"" << json_escape(name) << "\",\"cat\":\"" << cat
         << "\",\"ph\":\"X\",\"pid\":1,\"tid\":" << tid << ",\"ts\":" << ts_us
         << ",\"dur\":" << dur_us << ",\"args\":{" << args << "}}";
@@ -77,10 +77,11 @@ std::string chrome_trace_json(std::span<const FrameStats> frames) {
     event("frame " + std::to_string(f), "frame", 1000, origin_us,
           static_cast<double>(frame.frame_ns) * 1e-3, "");
     for (const SystemTiming& s : frame.systems) {
-      event(s.name, s.sync ? "sync" : "system", s.thread,
-            origin_us + static_cast<double>(s.start_ns) * 1e-3,
-            static_cast<double>(s.duration_ns) * 1e-3,
-            "\"entities\":" + std::to_string(s.entities) + ",\"chunks\":" + std::to_string(s.chunks));
+      event(
+          s.name, s.sync ? "sync" : "system", s.thread,
+          origin_us + static_cast<double>(s.start_ns) * 1e-3,
+          static_cast<double>(s.duration_ns) * 1e-3,
+          "\"entities\":" + std::to_string(s.entities) + ",\"chunks\":" + std::to_string(s.chunks));
     }
     for (const TaskSpan& t : frame.tasks) {
       event(frame.systems[t.node].name, "task", t.thread,

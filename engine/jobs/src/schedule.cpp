@@ -48,7 +48,9 @@ System& Schedule::push(std::string name, System::Kind kind) {
   return *systems_.back();
 }
 
-void Schedule::add_sync_point(std::string name) { push(std::move(name), System::Kind::kSync); }
+void Schedule::add_sync_point(std::string name) {
+  push(std::move(name), System::Kind::kSync);
+}
 
 void Schedule::build() {
   // 1. Node list in registration order, with sync points inserted where deferred commands must
@@ -97,7 +99,8 @@ void Schedule::build() {
   std::vector<std::vector<char>> edge(n, std::vector<char>(n, 0));
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = i + 1; j < n; ++j) {
-      const bool sync = list[i]->kind == System::Kind::kSync || list[j]->kind == System::Kind::kSync;
+      const bool sync =
+          list[i]->kind == System::Kind::kSync || list[j]->kind == System::Kind::kSync;
       if (sync || (ordering_ == Ordering::kRegistration &&
                    list[i]->access.conflicts_with(list[j]->access))) {
         edge[i][j] = 1;
@@ -107,7 +110,8 @@ void Schedule::build() {
   auto lookup = [&](const std::string& owner, const std::string& name) {
     auto it = index.find(name);
     if (it == index.end()) {
-      throw std::invalid_argument("Schedule: system '" + owner + "' is ordered against unknown system '" + name + "'");
+      throw std::invalid_argument("Schedule: system '" + owner +
+                                  "' is ordered against unknown system '" + name + "'");
     }
     return it->second;
   };
@@ -163,7 +167,8 @@ void Schedule::build() {
   conflicts_.clear();
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = i + 1; j < n; ++j) {
-      if (list[i]->access.conflicts_with(list[j]->access) && !reach[i].test(j) && !reach[j].test(i)) {
+      if (list[i]->access.conflicts_with(list[j]->access) && !reach[i].test(j) &&
+          !reach[j].test(i)) {
         conflicts_.push_back({list[i]->name, list[j]->name});
         edge[i][j] = 1;
       }
@@ -213,7 +218,8 @@ std::string Schedule::to_dot() const {
     if (!reads.empty()) out << "\\nR: " << join(reads);
     if (!writes.empty()) out << "\\nW: " << join(writes);
     if (s.access.spawns) out << "\\n+ spawns";
-    if (s.access.structural.any()) out << "\\n+ adds/removes: " << join(sorted_names(s.access.structural));
+    if (s.access.structural.any())
+      out << "\\n+ adds/removes: " << join(sorted_names(s.access.structural));
     out << "\"];\n";
   }
   for (std::size_t i = 0; i < nodes_.size(); ++i) {

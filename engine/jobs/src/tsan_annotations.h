@@ -12,8 +12,12 @@
 extern "C" void __tsan_acquire(void* addr);
 extern "C" void __tsan_release(void* addr);
 namespace penumbra::jobs::tsan {
-inline void release(const void* token) { __tsan_release(const_cast<void*>(token)); }
-inline void acquire(const void* token) { __tsan_acquire(const_cast<void*>(token)); }
+inline void release(const void* token) {
+  __tsan_release(const_cast<void*>(token));
+}
+inline void acquire(const void* token) {
+  __tsan_acquire(const_cast<void*>(token));
+}
 }  // namespace penumbra::jobs::tsan
 #else
 namespace penumbra::jobs::tsan {

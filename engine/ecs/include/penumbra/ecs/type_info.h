@@ -55,7 +55,9 @@ TypeInfo make_type_info() {
   info.size = sizeof(T);
   info.align = alignof(T);
   info.trivially_relocatable = std::is_trivially_copyable_v<T>;
-  info.move_construct = [](void* dst, void* src) { ::new (dst) T(std::move(*static_cast<T*>(src))); };
+  info.move_construct = [](void* dst, void* src) {
+    ::new (dst) T(std::move(*static_cast<T*>(src)));
+  };
   info.relocate = [](void* dst, void* src) {
     T* s = static_cast<T*>(src);
     ::new (dst) T(std::move(*s));

@@ -198,17 +198,19 @@ SystemBuilder Schedule::add_chunks(std::string name, F f) {
 
 template <class... Ts, class F>
 SystemBuilder Schedule::add_each(std::string name, F f) {
-  return add_chunks<Ts...>(std::move(name), [f = std::move(f)](SystemContext&,
-                                                               const ecs::ChunkView<Ts...>& c) {
-    const std::uint32_t rows = c.size();
-    auto spans = std::make_tuple(c.template get<Ts>()...);
-    if constexpr (std::is_invocable_v<const F&, ecs::Entity, Ts&...>) {
-      const auto ents = c.entities();
-      for (std::uint32_t r = 0; r < rows; ++r) f(ents[r], std::get<std::span<Ts>>(spans)[r]...);
-    } else {
-      for (std::uint32_t r = 0; r < rows; ++r) f(std::get<std::span<Ts>>(spans)[r]...);
-    }
-  });
+  return add_chunks<Ts...>(std::move(name),
+                           [f = std::move(f)](SystemContext&, const ecs::ChunkView<Ts...>& c) {
+                             const std::uint32_t rows = c.size();
+                             auto spans = std::make_tuple(c.template get<Ts>()...);
+                             if constexpr (std::is_invocable_v<const F&, ecs::Entity, Ts&...>) {
+                               const auto ents = c.entities();
+                               for (std::uint32_t r = 0; r < rows; ++r)
+                                 f(ents[r], std::get<std::span<Ts>>(spans)[r]...);
+                             } else {
+                               for (std::uint32_t r = 0; r < rows; ++r)
+                                 f(std::get<std::span<Ts>>(spans)[r]...);
+                             }
+                           });
 }
 
 template <class Acc, class... Ts, class ChunkFn, class Combine, class Done>

@@ -29,8 +29,12 @@ class SystemContext {
  public:
   SystemContext(ecs::World& world, std::uint64_t tick, std::uint64_t last_run_tick,
                 std::uint64_t command_key, std::size_t chunk, CommandPool* pool)
-      : world_(&world), tick_(tick), last_run_tick_(last_run_tick), command_key_(command_key),
-        chunk_(chunk), pool_(pool) {}
+      : world_(&world),
+        tick_(tick),
+        last_run_tick_(last_run_tick),
+        command_key_(command_key),
+        chunk_(chunk),
+        pool_(pool) {}
 
   ecs::World& world() const { return *world_; }
   // Stamp of this run: writes are marked with it (ChunkView::get, World::get_mut inside
@@ -61,8 +65,8 @@ struct System {
   std::string name;
   Kind kind = Kind::kTask;
   Access access;
-  ecs::TypeSet exclude;  // chunk systems: archetypes with any of these are skipped
-  std::vector<std::string> after;   // explicit ordering constraints, by system name
+  ecs::TypeSet exclude;            // chunk systems: archetypes with any of these are skipped
+  std::vector<std::string> after;  // explicit ordering constraints, by system name
   std::vector<std::string> before;
 
   std::function<void(SystemContext&)> run;  // kTask
