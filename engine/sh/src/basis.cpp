@@ -1,0 +1,54 @@
+#include "penumbra/sh/basis.h"
+
+#include "../generated/basis_generated.h"
+
+namespace penumbra::sh {
+namespace {
+template <int N>
+inline void eval_xyz(float x, float y, float z, float* out) {
+  static_assert(N >= 2 && N <= kMaxBands, "2 to 6 bands");
+  if constexpr (N == 2) generated::eval_basis_2(x, y, z, out);
+  if constexpr (N == 3) generated::eval_basis_3(x, y, z, out);
+  if constexpr (N == 4) generated::eval_basis_4(x, y, z, out);
+  if constexpr (N == 5) generated::eval_basis_5(x, y, z, out);
+  if constexpr (N == 6) generated::eval_basis_6(x, y, z, out);
+}
+}  // namespace
+
+template <int N>
+void eval_basis(const glm::vec3& dir, float* out) {
+  eval_xyz<N>(dir.x, dir.y, dir.z, out);
+}
+
+template <int N>
+void eval_basis_batch(const float* x, const float* y, const float* z, std::size_t count,
+                      float* out) {
+  float tmp[N * N];
+  for (std::size_t d = 0; d < count; ++d) {
+    eval_xyz<N>(x[d], y[d], z[d], tmp);
+    for (int i = 0; i < N * N; ++i) out[static_cast<std::size_t>(i) * count + d] = tmp[i];
+  }
+}
+
+template <int N>
+float evaluate(const Coeffs<N>& f, const glm::vec3& dir) {
+  float y[N * N];
+  eval_xyz<N>(dir.x, dir.y, dir.z, y);
+  float s = 0;
+  for (int i = 0; i < N * N; ++i) s += f[i] * y[i];
+  return s;
+}
+
+#define PENUMBRA_SH_INSTANTIATE(N)                                                       \
+  template void eval_basis<N>(const glm::vec3&, float*);                                \
+  template void eval_basis_batch<N>(const float*, const float*, const float*, std::size_t, \
+                                    float*);                                            \
+  template float evaluate<N>(const Coeffs<N>&, const glm::vec3&);
+PENUMBRA_SH_INSTANTIATE(2)
+PENUMBRA_SH_INSTANTIATE(3)
+PENUMBRA_SH_INSTANTIATE(4)
+PENUMBRA_SH_INSTANTIATE(5)
+PENUMBRA_SH_INSTANTIATE(6)
+#undef PENUMBRA_SH_INSTANTIATE
+
+}  // namespace penumbra::sh
