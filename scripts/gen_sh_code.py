@@ -93,34 +93,48 @@ def gaunt(n):
 
 
 def emit_basis(n):
-    lines = [f"// {n} bands: out[0..{n*n - 1}] = y_i(x, y, z) for a unit vector.",
-             f"inline void eval_basis_{n}(float x, float y, float z, float* out) {{"]
+    # Templated on the lane type T: float, or a GCC/Clang vector of floats for SoA batches.
+    # Constants enter only as scalar operands of * and +, which both kinds of T accept.
+    lines = [f"// {n} bands: out[0..{n*n - 1}] = y_i(x, y, z) for a unit vector (T: float or float vector).",
+             "template <class T>",
+             f"inline void eval_basis_{n}(T x, T y, T z, T* out) {{"]
     lines.append("  // Re/Im of (x + iy)^m: the sin^m(theta) cos/sin(m phi) factors.")
-    lines.append("  const float c0 = 1.0f, s0 = 0.0f;")
-    for m in range(1, n):
-        lines.append(f"  const float c{m} = x * c{m-1} - y * s{m-1};")
-        lines.append(f"  const float s{m} = x * s{m-1} + y * c{m-1};")
-    lines.append("  (void)c0;")
-    lines.append("  (void)s0;")
+    lines.append("  const T c1 = x;")
+    lines.append("  const T s1 = y;")
+    for m in range(2, n):
+        lines.append(f"  const T c{m} = x * c{m-1} - y * s{m-1};")
+        lines.append(f"  const T s{m} = x * s{m-1} + y * c{m-1};")
     for m in range(0, n):
         pmm = 1.0
         for k in range(1, m + 1):
             pmm *= (2 * k - 1)
-        # Emit P_l^m(z) for l = m..n-1 as named temporaries (Legendre recurrence, Cartesian form).
-        lines.append(f"  const float p{m}_{m} = {pmm:.1f}f;")
+        # P_l^m(z) / P_m^m as named temporaries (Legendre recurrence, Cartesian form); the
+        # constant P_m^m is folded into the normalisation.
+        q = {m: None}
         if m + 1 < n:
-            lines.append(f"  const float p{m+1}_{m} = {2*m+1:.1f}f * z * p{m}_{m};")
+            lines.append(f"  const T p{m+1}_{m} = {float(2*m+1)!r}f * z;")
+            q[m + 1] = f"p{m+1}_{m}"
         for l in range(m + 2, n):
             a = (2 * l - 1) / (l - m)
             b = (l + m - 1) / (l - m)
-            lines.append(f"  const float p{l}_{m} = {a!r}f * z * p{l-1}_{m} - {b!r}f * p{l-2}_{m};")
-        for l in range(m, n):
-            if m == 0:
-                lines.append(f"  out[{l*(l+1)}] = {k_lm(l, 0)!r}f * p{l}_0;")
+            prev2 = f"p{l-2}_{m}" if q[l - 2] is not None else None
+            term2 = f" - {b!r}f * {prev2}" if prev2 else f" - T{{}} - {b!r}f"
+            if prev2 is None:
+                lines.append(f"  const T p{l}_{m} = {a!r}f * z * p{l-1}_{m} - {b!r}f;")
             else:
-                k = math.sqrt(2) * k_lm(l, m)
-                lines.append(f"  out[{l*(l+1)+m}] = {k!r}f * p{l}_{m} * c{m};")
-                lines.append(f"  out[{l*(l+1)-m}] = {k!r}f * p{l}_{m} * s{m};")
+                lines.append(f"  const T p{l}_{m} = {a!r}f * z * p{l-1}_{m}{term2};")
+            q[l] = f"p{l}_{m}"
+        for l in range(m, n):
+            k = k_lm(l, m) * pmm * (1 if m == 0 else math.sqrt(2))
+            factor = f" * {q[l]}" if q[l] is not None else ""
+            if m == 0:
+                if q[l] is None:
+                    lines.append(f"  out[{l*(l+1)}] = T{{}} + {k!r}f;")
+                else:
+                    lines.append(f"  out[{l*(l+1)}] = {k!r}f{factor};")
+            else:
+                lines.append(f"  out[{l*(l+1)+m}] = {k!r}f{factor} * c{m};")
+                lines.append(f"  out[{l*(l+1)-m}] = {k!r}f{factor} * s{m};")
     lines.append("}")
     return "\n".join(lines)
 

@@ -4,181 +4,155 @@
 
 namespace penumbra::sh::generated {
 
-// 2 bands: out[0..3] = y_i(x, y, z) for a unit vector.
-inline void eval_basis_2(float x, float y, float z, float* out) {
+// 2 bands: out[0..3] = y_i(x, y, z) for a unit vector (T: float or float vector).
+template <class T>
+inline void eval_basis_2(T x, T y, T z, T* out) {
   // Re/Im of (x + iy)^m: the sin^m(theta) cos/sin(m phi) factors.
-  const float c0 = 1.0f, s0 = 0.0f;
-  const float c1 = x * c0 - y * s0;
-  const float s1 = x * s0 + y * c0;
-  (void)c0;
-  (void)s0;
-  const float p0_0 = 1.0f;
-  const float p1_0 = 1.0f * z * p0_0;
-  out[0] = 0.28209479177387814f * p0_0;
+  const T c1 = x;
+  const T s1 = y;
+  const T p1_0 = 1.0f * z;
+  out[0] = T{} + 0.28209479177387814f;
   out[2] = 0.4886025119029199f * p1_0;
-  const float p1_1 = 1.0f;
-  out[3] = 0.48860251190292f * p1_1 * c1;
-  out[1] = 0.48860251190292f * p1_1 * s1;
+  out[3] = 0.48860251190292f * c1;
+  out[1] = 0.48860251190292f * s1;
 }
 
-// 3 bands: out[0..8] = y_i(x, y, z) for a unit vector.
-inline void eval_basis_3(float x, float y, float z, float* out) {
+// 3 bands: out[0..8] = y_i(x, y, z) for a unit vector (T: float or float vector).
+template <class T>
+inline void eval_basis_3(T x, T y, T z, T* out) {
   // Re/Im of (x + iy)^m: the sin^m(theta) cos/sin(m phi) factors.
-  const float c0 = 1.0f, s0 = 0.0f;
-  const float c1 = x * c0 - y * s0;
-  const float s1 = x * s0 + y * c0;
-  const float c2 = x * c1 - y * s1;
-  const float s2 = x * s1 + y * c1;
-  (void)c0;
-  (void)s0;
-  const float p0_0 = 1.0f;
-  const float p1_0 = 1.0f * z * p0_0;
-  const float p2_0 = 1.5f * z * p1_0 - 0.5f * p0_0;
-  out[0] = 0.28209479177387814f * p0_0;
+  const T c1 = x;
+  const T s1 = y;
+  const T c2 = x * c1 - y * s1;
+  const T s2 = x * s1 + y * c1;
+  const T p1_0 = 1.0f * z;
+  const T p2_0 = 1.5f * z * p1_0 - 0.5f;
+  out[0] = T{} + 0.28209479177387814f;
   out[2] = 0.4886025119029199f * p1_0;
   out[6] = 0.6307831305050401f * p2_0;
-  const float p1_1 = 1.0f;
-  const float p2_1 = 3.0f * z * p1_1;
-  out[3] = 0.48860251190292f * p1_1 * c1;
-  out[1] = 0.48860251190292f * p1_1 * s1;
+  const T p2_1 = 3.0f * z;
+  out[3] = 0.48860251190292f * c1;
+  out[1] = 0.48860251190292f * s1;
   out[7] = 0.36418281019735976f * p2_1 * c1;
   out[5] = 0.36418281019735976f * p2_1 * s1;
-  const float p2_2 = 3.0f;
-  out[8] = 0.18209140509867988f * p2_2 * c2;
-  out[4] = 0.18209140509867988f * p2_2 * s2;
+  out[8] = 0.5462742152960396f * c2;
+  out[4] = 0.5462742152960396f * s2;
 }
 
-// 4 bands: out[0..15] = y_i(x, y, z) for a unit vector.
-inline void eval_basis_4(float x, float y, float z, float* out) {
+// 4 bands: out[0..15] = y_i(x, y, z) for a unit vector (T: float or float vector).
+template <class T>
+inline void eval_basis_4(T x, T y, T z, T* out) {
   // Re/Im of (x + iy)^m: the sin^m(theta) cos/sin(m phi) factors.
-  const float c0 = 1.0f, s0 = 0.0f;
-  const float c1 = x * c0 - y * s0;
-  const float s1 = x * s0 + y * c0;
-  const float c2 = x * c1 - y * s1;
-  const float s2 = x * s1 + y * c1;
-  const float c3 = x * c2 - y * s2;
-  const float s3 = x * s2 + y * c2;
-  (void)c0;
-  (void)s0;
-  const float p0_0 = 1.0f;
-  const float p1_0 = 1.0f * z * p0_0;
-  const float p2_0 = 1.5f * z * p1_0 - 0.5f * p0_0;
-  const float p3_0 = 1.6666666666666667f * z * p2_0 - 0.6666666666666666f * p1_0;
-  out[0] = 0.28209479177387814f * p0_0;
+  const T c1 = x;
+  const T s1 = y;
+  const T c2 = x * c1 - y * s1;
+  const T s2 = x * s1 + y * c1;
+  const T c3 = x * c2 - y * s2;
+  const T s3 = x * s2 + y * c2;
+  const T p1_0 = 1.0f * z;
+  const T p2_0 = 1.5f * z * p1_0 - 0.5f;
+  const T p3_0 = 1.6666666666666667f * z * p2_0 - 0.6666666666666666f * p1_0;
+  out[0] = T{} + 0.28209479177387814f;
   out[2] = 0.4886025119029199f * p1_0;
   out[6] = 0.6307831305050401f * p2_0;
   out[12] = 0.7463526651802308f * p3_0;
-  const float p1_1 = 1.0f;
-  const float p2_1 = 3.0f * z * p1_1;
-  const float p3_1 = 2.5f * z * p2_1 - 1.5f * p1_1;
-  out[3] = 0.48860251190292f * p1_1 * c1;
-  out[1] = 0.48860251190292f * p1_1 * s1;
+  const T p2_1 = 3.0f * z;
+  const T p3_1 = 2.5f * z * p2_1 - 1.5f;
+  out[3] = 0.48860251190292f * c1;
+  out[1] = 0.48860251190292f * s1;
   out[7] = 0.36418281019735976f * p2_1 * c1;
   out[5] = 0.36418281019735976f * p2_1 * s1;
   out[13] = 0.3046971996429772f * p3_1 * c1;
   out[11] = 0.3046971996429772f * p3_1 * s1;
-  const float p2_2 = 3.0f;
-  const float p3_2 = 5.0f * z * p2_2;
-  out[8] = 0.18209140509867988f * p2_2 * c2;
-  out[4] = 0.18209140509867988f * p2_2 * s2;
-  out[14] = 0.09635371475468515f * p3_2 * c2;
-  out[10] = 0.09635371475468515f * p3_2 * s2;
-  const float p3_3 = 15.0f;
-  out[15] = 0.03933623932844291f * p3_3 * c3;
-  out[9] = 0.03933623932844291f * p3_3 * s3;
+  const T p3_2 = 5.0f * z;
+  out[8] = 0.5462742152960396f * c2;
+  out[4] = 0.5462742152960396f * s2;
+  out[14] = 0.2890611442640555f * p3_2 * c2;
+  out[10] = 0.2890611442640555f * p3_2 * s2;
+  out[15] = 0.5900435899266435f * c3;
+  out[9] = 0.5900435899266435f * s3;
 }
 
-// 5 bands: out[0..24] = y_i(x, y, z) for a unit vector.
-inline void eval_basis_5(float x, float y, float z, float* out) {
+// 5 bands: out[0..24] = y_i(x, y, z) for a unit vector (T: float or float vector).
+template <class T>
+inline void eval_basis_5(T x, T y, T z, T* out) {
   // Re/Im of (x + iy)^m: the sin^m(theta) cos/sin(m phi) factors.
-  const float c0 = 1.0f, s0 = 0.0f;
-  const float c1 = x * c0 - y * s0;
-  const float s1 = x * s0 + y * c0;
-  const float c2 = x * c1 - y * s1;
-  const float s2 = x * s1 + y * c1;
-  const float c3 = x * c2 - y * s2;
-  const float s3 = x * s2 + y * c2;
-  const float c4 = x * c3 - y * s3;
-  const float s4 = x * s3 + y * c3;
-  (void)c0;
-  (void)s0;
-  const float p0_0 = 1.0f;
-  const float p1_0 = 1.0f * z * p0_0;
-  const float p2_0 = 1.5f * z * p1_0 - 0.5f * p0_0;
-  const float p3_0 = 1.6666666666666667f * z * p2_0 - 0.6666666666666666f * p1_0;
-  const float p4_0 = 1.75f * z * p3_0 - 0.75f * p2_0;
-  out[0] = 0.28209479177387814f * p0_0;
+  const T c1 = x;
+  const T s1 = y;
+  const T c2 = x * c1 - y * s1;
+  const T s2 = x * s1 + y * c1;
+  const T c3 = x * c2 - y * s2;
+  const T s3 = x * s2 + y * c2;
+  const T c4 = x * c3 - y * s3;
+  const T s4 = x * s3 + y * c3;
+  const T p1_0 = 1.0f * z;
+  const T p2_0 = 1.5f * z * p1_0 - 0.5f;
+  const T p3_0 = 1.6666666666666667f * z * p2_0 - 0.6666666666666666f * p1_0;
+  const T p4_0 = 1.75f * z * p3_0 - 0.75f * p2_0;
+  out[0] = T{} + 0.28209479177387814f;
   out[2] = 0.4886025119029199f * p1_0;
   out[6] = 0.6307831305050401f * p2_0;
   out[12] = 0.7463526651802308f * p3_0;
   out[20] = 0.8462843753216345f * p4_0;
-  const float p1_1 = 1.0f;
-  const float p2_1 = 3.0f * z * p1_1;
-  const float p3_1 = 2.5f * z * p2_1 - 1.5f * p1_1;
-  const float p4_1 = 2.3333333333333335f * z * p3_1 - 1.3333333333333333f * p2_1;
-  out[3] = 0.48860251190292f * p1_1 * c1;
-  out[1] = 0.48860251190292f * p1_1 * s1;
+  const T p2_1 = 3.0f * z;
+  const T p3_1 = 2.5f * z * p2_1 - 1.5f;
+  const T p4_1 = 2.3333333333333335f * z * p3_1 - 1.3333333333333333f * p2_1;
+  out[3] = 0.48860251190292f * c1;
+  out[1] = 0.48860251190292f * s1;
   out[7] = 0.36418281019735976f * p2_1 * c1;
   out[5] = 0.36418281019735976f * p2_1 * s1;
   out[13] = 0.3046971996429772f * p3_1 * c1;
   out[11] = 0.3046971996429772f * p3_1 * s1;
   out[21] = 0.2676186174229157f * p4_1 * c1;
   out[19] = 0.2676186174229157f * p4_1 * s1;
-  const float p2_2 = 3.0f;
-  const float p3_2 = 5.0f * z * p2_2;
-  const float p4_2 = 3.5f * z * p3_2 - 2.5f * p2_2;
-  out[8] = 0.18209140509867988f * p2_2 * c2;
-  out[4] = 0.18209140509867988f * p2_2 * s2;
-  out[14] = 0.09635371475468515f * p3_2 * c2;
-  out[10] = 0.09635371475468515f * p3_2 * s2;
-  out[22] = 0.063078313050504f * p4_2 * c2;
-  out[18] = 0.063078313050504f * p4_2 * s2;
-  const float p3_3 = 15.0f;
-  const float p4_3 = 7.0f * z * p3_3;
-  out[15] = 0.03933623932844291f * p3_3 * c3;
-  out[9] = 0.03933623932844291f * p3_3 * s3;
-  out[23] = 0.016858388283618388f * p4_3 * c3;
-  out[17] = 0.016858388283618388f * p4_3 * s3;
-  const float p4_4 = 105.0f;
-  out[24] = 0.005960340337611203f * p4_4 * c4;
-  out[16] = 0.005960340337611203f * p4_4 * s4;
+  const T p3_2 = 5.0f * z;
+  const T p4_2 = 3.5f * z * p3_2 - 2.5f;
+  out[8] = 0.5462742152960396f * c2;
+  out[4] = 0.5462742152960396f * s2;
+  out[14] = 0.2890611442640555f * p3_2 * c2;
+  out[10] = 0.2890611442640555f * p3_2 * s2;
+  out[22] = 0.18923493915151202f * p4_2 * c2;
+  out[18] = 0.18923493915151202f * p4_2 * s2;
+  const T p4_3 = 7.0f * z;
+  out[15] = 0.5900435899266435f * c3;
+  out[9] = 0.5900435899266435f * s3;
+  out[23] = 0.25287582425427585f * p4_3 * c3;
+  out[17] = 0.25287582425427585f * p4_3 * s3;
+  out[24] = 0.6258357354491763f * c4;
+  out[16] = 0.6258357354491763f * s4;
 }
 
-// 6 bands: out[0..35] = y_i(x, y, z) for a unit vector.
-inline void eval_basis_6(float x, float y, float z, float* out) {
+// 6 bands: out[0..35] = y_i(x, y, z) for a unit vector (T: float or float vector).
+template <class T>
+inline void eval_basis_6(T x, T y, T z, T* out) {
   // Re/Im of (x + iy)^m: the sin^m(theta) cos/sin(m phi) factors.
-  const float c0 = 1.0f, s0 = 0.0f;
-  const float c1 = x * c0 - y * s0;
-  const float s1 = x * s0 + y * c0;
-  const float c2 = x * c1 - y * s1;
-  const float s2 = x * s1 + y * c1;
-  const float c3 = x * c2 - y * s2;
-  const float s3 = x * s2 + y * c2;
-  const float c4 = x * c3 - y * s3;
-  const float s4 = x * s3 + y * c3;
-  const float c5 = x * c4 - y * s4;
-  const float s5 = x * s4 + y * c4;
-  (void)c0;
-  (void)s0;
-  const float p0_0 = 1.0f;
-  const float p1_0 = 1.0f * z * p0_0;
-  const float p2_0 = 1.5f * z * p1_0 - 0.5f * p0_0;
-  const float p3_0 = 1.6666666666666667f * z * p2_0 - 0.6666666666666666f * p1_0;
-  const float p4_0 = 1.75f * z * p3_0 - 0.75f * p2_0;
-  const float p5_0 = 1.8f * z * p4_0 - 0.8f * p3_0;
-  out[0] = 0.28209479177387814f * p0_0;
+  const T c1 = x;
+  const T s1 = y;
+  const T c2 = x * c1 - y * s1;
+  const T s2 = x * s1 + y * c1;
+  const T c3 = x * c2 - y * s2;
+  const T s3 = x * s2 + y * c2;
+  const T c4 = x * c3 - y * s3;
+  const T s4 = x * s3 + y * c3;
+  const T c5 = x * c4 - y * s4;
+  const T s5 = x * s4 + y * c4;
+  const T p1_0 = 1.0f * z;
+  const T p2_0 = 1.5f * z * p1_0 - 0.5f;
+  const T p3_0 = 1.6666666666666667f * z * p2_0 - 0.6666666666666666f * p1_0;
+  const T p4_0 = 1.75f * z * p3_0 - 0.75f * p2_0;
+  const T p5_0 = 1.8f * z * p4_0 - 0.8f * p3_0;
+  out[0] = T{} + 0.28209479177387814f;
   out[2] = 0.4886025119029199f * p1_0;
   out[6] = 0.6307831305050401f * p2_0;
   out[12] = 0.7463526651802308f * p3_0;
   out[20] = 0.8462843753216345f * p4_0;
   out[30] = 0.9356025796273888f * p5_0;
-  const float p1_1 = 1.0f;
-  const float p2_1 = 3.0f * z * p1_1;
-  const float p3_1 = 2.5f * z * p2_1 - 1.5f * p1_1;
-  const float p4_1 = 2.3333333333333335f * z * p3_1 - 1.3333333333333333f * p2_1;
-  const float p5_1 = 2.25f * z * p4_1 - 1.25f * p3_1;
-  out[3] = 0.48860251190292f * p1_1 * c1;
-  out[1] = 0.48860251190292f * p1_1 * s1;
+  const T p2_1 = 3.0f * z;
+  const T p3_1 = 2.5f * z * p2_1 - 1.5f;
+  const T p4_1 = 2.3333333333333335f * z * p3_1 - 1.3333333333333333f * p2_1;
+  const T p5_1 = 2.25f * z * p4_1 - 1.25f * p3_1;
+  out[3] = 0.48860251190292f * c1;
+  out[1] = 0.48860251190292f * s1;
   out[7] = 0.36418281019735976f * p2_1 * c1;
   out[5] = 0.36418281019735976f * p2_1 * s1;
   out[13] = 0.3046971996429772f * p3_1 * c1;
@@ -187,36 +161,32 @@ inline void eval_basis_6(float x, float y, float z, float* out) {
   out[19] = 0.2676186174229157f * p4_1 * s1;
   out[31] = 0.2415715473043717f * p5_1 * c1;
   out[29] = 0.2415715473043717f * p5_1 * s1;
-  const float p2_2 = 3.0f;
-  const float p3_2 = 5.0f * z * p2_2;
-  const float p4_2 = 3.5f * z * p3_2 - 2.5f * p2_2;
-  const float p5_2 = 3.0f * z * p4_2 - 2.0f * p3_2;
-  out[8] = 0.18209140509867988f * p2_2 * c2;
-  out[4] = 0.18209140509867988f * p2_2 * s2;
-  out[14] = 0.09635371475468515f * p3_2 * c2;
-  out[10] = 0.09635371475468515f * p3_2 * s2;
-  out[22] = 0.063078313050504f * p4_2 * c2;
-  out[18] = 0.063078313050504f * p4_2 * s2;
-  out[32] = 0.045652731285460234f * p5_2 * c2;
-  out[28] = 0.045652731285460234f * p5_2 * s2;
-  const float p3_3 = 15.0f;
-  const float p4_3 = 7.0f * z * p3_3;
-  const float p5_3 = 4.5f * z * p4_3 - 3.5f * p3_3;
-  out[15] = 0.03933623932844291f * p3_3 * c3;
-  out[9] = 0.03933623932844291f * p3_3 * s3;
-  out[23] = 0.016858388283618388f * p4_3 * c3;
-  out[17] = 0.016858388283618388f * p4_3 * s3;
-  out[33] = 0.009318824751147628f * p5_3 * c3;
-  out[27] = 0.009318824751147628f * p5_3 * s3;
-  const float p4_4 = 105.0f;
-  const float p5_4 = 9.0f * z * p4_4;
-  out[24] = 0.005960340337611203f * p4_4 * c4;
-  out[16] = 0.005960340337611203f * p4_4 * s4;
-  out[34] = 0.002196468058075176f * p5_4 * c4;
-  out[26] = 0.002196468058075176f * p5_4 * s4;
-  const float p5_5 = 945.0f;
-  out[35] = 0.0006945841871324552f * p5_5 * c5;
-  out[25] = 0.0006945841871324552f * p5_5 * s5;
+  const T p3_2 = 5.0f * z;
+  const T p4_2 = 3.5f * z * p3_2 - 2.5f;
+  const T p5_2 = 3.0f * z * p4_2 - 2.0f * p3_2;
+  out[8] = 0.5462742152960396f * c2;
+  out[4] = 0.5462742152960396f * s2;
+  out[14] = 0.2890611442640555f * p3_2 * c2;
+  out[10] = 0.2890611442640555f * p3_2 * s2;
+  out[22] = 0.18923493915151202f * p4_2 * c2;
+  out[18] = 0.18923493915151202f * p4_2 * s2;
+  out[32] = 0.1369581938563807f * p5_2 * c2;
+  out[28] = 0.1369581938563807f * p5_2 * s2;
+  const T p4_3 = 7.0f * z;
+  const T p5_3 = 4.5f * z * p4_3 - 3.5f;
+  out[15] = 0.5900435899266435f * c3;
+  out[9] = 0.5900435899266435f * s3;
+  out[23] = 0.25287582425427585f * p4_3 * c3;
+  out[17] = 0.25287582425427585f * p4_3 * s3;
+  out[33] = 0.1397823712672144f * p5_3 * c3;
+  out[27] = 0.1397823712672144f * p5_3 * s3;
+  const T p5_4 = 9.0f * z;
+  out[24] = 0.6258357354491763f * c4;
+  out[16] = 0.6258357354491763f * s4;
+  out[34] = 0.2306291460978935f * p5_4 * c4;
+  out[26] = 0.2306291460978935f * p5_4 * s4;
+  out[35] = 0.6563820568401703f * c5;
+  out[25] = 0.6563820568401703f * s5;
 }
 
 }  // namespace penumbra::sh::generated

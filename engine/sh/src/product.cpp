@@ -62,11 +62,19 @@ int gaunt_entry_count() {
   return static_cast<int>(gaunt_end<N>() - gaunt_begin<N>());
 }
 
+template <int N>
+int factored_term_count() {
+  int n = 0;
+  for (const g::GauntEntry* e = gaunt_begin<N>(); e != gaunt_end<N>(); ++e) n += e->j <= e->k;
+  return n;
+}
+
 #define PENUMBRA_PRODUCT_INSTANTIATE(N)                                         \
   template Coeffs<N> product<N>(const Coeffs<N>&, const Coeffs<N>&);           \
   template Coeffs<N> square<N>(const Coeffs<N>&);                              \
   template Coeffs<N> product_sparse<N>(const Coeffs<N>&, const Coeffs<N>&);    \
-  template int gaunt_entry_count<N>();
+  template int gaunt_entry_count<N>();                                         \
+  template int factored_term_count<N>();
 PENUMBRA_PRODUCT_INSTANTIATE(2)
 PENUMBRA_PRODUCT_INSTANTIATE(3)
 PENUMBRA_PRODUCT_INSTANTIATE(4)

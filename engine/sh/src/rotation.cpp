@@ -20,8 +20,12 @@ Coeffs<N> rotate_zh(const Zonal<N>& z, const glm::vec3& axis) {
 template <int N>
 Coeffs<N> rotate_z(const Coeffs<N>& f, float angle) {
   Coeffs<N> out = f;
+  const float c1 = std::cos(angle), s1 = std::sin(angle);
+  float c = 1, s = 0;
   for (int m = 1; m < N; ++m) {
-    const float c = std::cos(m * angle), s = std::sin(m * angle);
+    const float cm = c * c1 - s * s1;  // cos(m a), sin(m a) by the angle-addition recurrence
+    s = s * c1 + c * s1;
+    c = cm;
     for (int l = m; l < N; ++l) {
       const float a = f[index(l, m)], b = f[index(l, -m)];  // cos(m phi) and sin(m phi) parts
       out[index(l, m)] = a * c - b * s;

@@ -24,5 +24,9 @@ Coeffs<N> product_sparse(const Coeffs<N>& f, const Coeffs<N>& g);
 // Number of non-zero Gamma_ijk entries with i, j, k < N*N.
 template <int N>
 int gaunt_entry_count();
+// Multiply-adds the factored product performs: one per non-zero Gamma_ijk with j <= k (plus the
+// pair products themselves, about N^4 / 2 of them): its operation count, for benchmarks.
+template <int N>
+int factored_term_count();
 
 }  // namespace penumbra::sh
