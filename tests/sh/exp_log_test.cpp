@@ -58,6 +58,19 @@ TEST(ExpLog, ExpOfLogRecoversSmoothPositiveFunctions) {
   EXPECT_LT(test::rel_l2<4>(back, f), 5e-3f);
 }
 
+TEST(ExpLog, ExpOfLogRecoversBlockerVisibility) {
+  // Round trip on blocker-like visibility: the 4-band projection of 1-3 blockers' visibility
+  // (it rings slightly below zero, so the eps clamp matters), log_clamped, then exp_hyb.
+  std::mt19937 rng(47);
+  float worst = 0;
+  for (int trial = 0; trial < 12; ++trial) {
+    const auto v = true_visibility(random_blockers(rng, 1 + trial % 3, 0.2f, 0.5f));
+    worst = std::fmax(worst, test::rel_l2<4>(exp_hyb<4>(log_clamped<4>(v, 0.05f)), v));
+  }
+  std::printf("exp_hyb(log_clamped(v)) vs v, 1-3 blockers: worst relative L2 error %.4f\n", worst);
+  EXPECT_LT(worst, 0.05f);  // measured 0.028
+}
+
 TEST(ExpLog, OptimalLinearIsExactAtZeroAndAccurateForSmallNorms) {
   const OlFit at0 = ol_fit<4>(0.0f);
   EXPECT_NEAR(at0.a, 1.0f, 1e-6f);
