@@ -1,0 +1,24 @@
+// Mesh components: a reference to shared, immutable triangle data and its base colour.
+#pragma once
+
+#include <memory>
+
+#include <glm/vec4.hpp>
+
+namespace penumbra::assets {
+struct MeshData;  // penumbra/assets/mesh.h
+}
+
+namespace penumbra::components {
+
+// Many instances share one MeshData; nothing writes through it.
+struct MeshInstance {
+  std::shared_ptr<const assets::MeshData> mesh;
+};
+
+// Linear RGBA (glTF pbrMetallicRoughness.baseColorFactor).
+struct BaseColor {
+  glm::vec4 rgba{1.0f};
+};
+
+}  // namespace penumbra::components

@@ -1,0 +1,111 @@
+// penumbra_info FILE: what an asset file holds (./penumbra info FILE). Environment map (.exr
+// with colour channels): size, radiance range and mean, 4-band SH per channel. glTF (.gltf,
+// .glb): meshes, vertices, triangles, nodes. Height map (.pgm, single-channel .exr): size, cell
+// size, height range. On a load error prints the loader's message and exits 1.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <string>
+
+#include "penumbra/assets/exr.h"
+#include "penumbra/assets/gltf.h"
+#include "penumbra/assets/heightmap.h"
+#include "penumbra/sh/projection.h"
+
+namespace {
+
+using namespace penumbra;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void print_environment(const assets::EnvironmentMap& m, double ms) {
+  std::printf("environment map  %s\n  size        %d x %d texels, linear RGB\n", m.source.c_str(),
+              m.width, m.height);
+  float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+  double mean[3] = {0, 0, 0};
+  for (int y = 0; y < m.height; ++y) {
+    const double w = sh::equirect_texel_solid_angle(y, m.width, m.height) / (4 * 3.14159265358979);
+    for (int x = 0; x < m.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float v = m.texel(x, y)[c];
+        lo[c] = std::min(lo[c], v);
+        hi[c] = std::max(hi[c], v);
+        mean[c] += w * v;
+      }
+  }
+  const char* names = "RGB";
+  for (int c = 0; c < 3; ++c)
+    std::printf("  radiance %c  min %.5g  max %.5g  mean %.5g (solid-angle weighted)\n", names[c],
+                lo[c], hi[c], mean[c]);
+  std::printf("  clamped     %zu negative values (compression ringing, exr.h)\n", m.clamped_values);
+  const auto coeffs = sh::project_equirect<4>(m.rgb.data(), m.width, m.height);
+  std::printf("  SH, 4 bands (index l(l+1)+m, penumbra/sh conventions)\n");
+  for (int c = 0; c < 3; ++c) {
+    std::printf("    %c", names[c]);
+    for (float v : coeffs[static_cast<std::size_t>(c)]) std::printf(" %.5g", v);
+    std::printf("\n");
+  }
+  std::printf("  loaded in  %.2f ms\n", ms);
+}
+
+void print_model(const assets::Model& m, double ms) {
+  std::printf("glTF model  %s\n", m.source.c_str());
+  std::printf("  meshes      %zu (%zu triangle primitives)\n", m.gltf_mesh_count, m.meshes.size());
+  std::printf("  vertices    %zu\n  triangles   %zu\n", m.vertex_count(), m.triangle_count());
+  std::printf("  nodes       %zu (%zu mesh instances in the scene)\n", m.node_count,
+              m.instances.size());
+  for (const std::string& w : m.warnings) std::printf("  warning     %s\n", w.c_str());
+  std::printf("  loaded in   %.2f ms\n", ms);
+}
+
+void print_heights(const assets::HeightField& f, double ms) {
+  const auto [lo, hi] = std::minmax_element(f.heights.begin(), f.heights.end());
+  double mean = 0;
+  for (float h : f.heights) mean += h;
+  mean /= static_cast<double>(f.heights.size());
+  std::printf("height map  %s\n  size        %d x %d samples\n", f.source.c_str(), f.width,
+              f.height);
+  std::printf("  cell size   %.6g m (%.6g x %.6g m)\n", f.cell_size, f.cell_size * (f.width - 1),
+              f.cell_size * (f.height - 1));
+  std::printf("  heights     min %.6g  max %.6g  mean %.6g m\n", *lo, *hi, mean);
+  std::printf("  loaded in   %.2f ms\n", ms);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: penumbra_info FILE (.exr, .gltf, .glb, .pgm)\n");
+    return 2;
+  }
+  const std::filesystem::path path = argv[1];
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  try {
+    const auto t0 = Clock::now();
+    if (ext == ".gltf" || ext == ".glb") {
+      const assets::Model m = assets::load_gltf(path);
+      print_model(m, ms_since(t0));
+    } else if (ext == ".pgm" || (ext == ".exr" && assets::exr_channel_count(path) == 1)) {
+      const assets::HeightField f = assets::load_height_field(path);
+      print_heights(f, ms_since(t0));
+    } else if (ext == ".exr") {
+      const assets::EnvironmentMap m = assets::load_environment_map(path);
+      print_environment(m, ms_since(t0));
+    } else {
+      std::fprintf(stderr, "%s: unknown file type (expected .exr, .gltf, .glb or .pgm)\n",
+                   path.c_str());
+      return 1;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
