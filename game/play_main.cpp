@@ -1,32 +1,31 @@
-// The main job, headless: steps the sample world through the job graph and prints a
-// per-system timing table. (The Vulkan demo replaces this once the renderer lands.)
+// The main job: the sample world through the job graph and the Vulkan renderer.
 //
 //   penumbra_play [--frames N] [--threads T] [--particles N] [--trace FILE] [--dot FILE]
+//                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
+//                 [--device NAME] [--size WxH] [--points N]
+//
+// With a display ($DISPLAY / $WAYLAND_DISPLAY) and no --headless: a window with the ImGui
+// overlay, until it is closed (or N frames). Otherwise offscreen: N frames (default 300), K
+// screenshots written to DIR as PNG. Both print the per-system CPU timing table and the
+// per-pass GPU timing table. --points N draws at most N particles (every k-th; 0: all).
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iostream>
+#include <exception>
 #include <string>
-#include <vector>
 
-#include "penumbra/components/frame_time.h"
-#include "penumbra/game/sample_world.h"
-#include "penumbra/jobs/executor.h"
-#include "penumbra/jobs/frame_report.h"
+#include "penumbra/render/window.h"
+#include "play.h"
 
 namespace {
-struct Options {
-  int frames = 300;
-  int threads = 0;
-  std::size_t particles = 200'000;
-  std::string trace, dot;
-};
+using penumbra::play::Options;
 
 [[noreturn]] void usage(const char* error) {
   std::fprintf(stderr,
-               "penumbra_play: %s\nusage: penumbra_play [--frames N] [--threads T] [--particles N] "
-               "[--trace FILE] [--dot FILE] [--headless]\n",
+               "penumbra_play: %s\nusage: penumbra_play [--frames N] [--threads T] "
+               "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
+               "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
+               "[--points N]\n",
                error);
   std::exit(2);
 }
@@ -57,62 +56,43 @@ Options parse(int argc, char** argv) {
       o.trace = value();
     else if (a == "--dot")
       o.dot = value();
-    else if (a == "--headless") {
-    }  // always headless until the renderer lands
-    else
+    else if (a == "--out")
+      o.out = value();
+    else if (a == "--screenshots")
+      o.screenshots = static_cast<int>(number(0));
+    else if (a == "--headless")
+      o.headless = true;
+    else if (a == "--no-render")
+      o.render = false;
+    else if (a == "--validation")
+      o.validation = true;
+    else if (a == "--points")
+      o.points = static_cast<std::size_t>(number(0));
+    else if (a == "--device")
+      o.device = value();
+    else if (a == "--size") {
+      const std::string v = value();
+      if (std::sscanf(v.c_str(), "%dx%d", &o.width, &o.height) != 2 || o.width < 1 || o.height < 1)
+        usage(("--size needs WxH, got '" + v + "'").c_str());
+    } else {
       usage(("unknown option " + a).c_str());
+    }
   }
   return o;
-}
-
-bool write_file(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!(f << text)) return false;
-  }
-  return std::rename(tmp.c_str(), path.c_str()) == 0;  // atomic replace
 }
 }  // namespace
 
 int main(int argc, char** argv) {
   using namespace penumbra;
-  const Options opt = parse(argc, argv);
-
-  ecs::World world;
-  game::SampleWorldConfig config;
-  config.particles = opt.particles;
-  game::populate_sample_world(world, config);
-  jobs::Schedule schedule;
-  game::add_sample_systems(schedule);
-  jobs::Executor executor(opt.threads);
-  executor.set_trace_tasks(!opt.trace.empty());
-
-  jobs::TimingTable table;
-  std::vector<jobs::FrameStats> traced;
-  const int warmup = opt.frames > 10 ? 5 : 0;
-  for (int f = 0; f < opt.frames; ++f) {
-    const jobs::FrameStats& stats = executor.run(schedule, world);
-    if (f >= warmup) table.add(stats);
-    if (!opt.trace.empty() && f >= opt.frames - 3) traced.push_back(stats);
+  Options opt = parse(argc, argv);
+  try {
+    if (!opt.render) return play::run_simulation_only(opt);
+    if (!opt.headless && render::Glfw::display_available()) return play::run_window(opt);
+    return play::run_headless(opt);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "penumbra_play: %s\n", e.what());
+    if (opt.render)
+      std::fprintf(stderr, "(no usable Vulkan device? --no-render runs the simulation only)\n");
+    return 1;
   }
-
-  std::printf("penumbra: headless sample world, %zu entities, %d frames (%d warm-up), %d threads\n",
-              world.size(), opt.frames, warmup, executor.threads());
-  table.print(std::cout);
-  if (!opt.trace.empty()) {
-    if (!write_file(opt.trace, jobs::chrome_trace_json(traced))) {
-      std::fprintf(stderr, "penumbra_play: cannot write trace to %s\n", opt.trace.c_str());
-      return 1;
-    }
-    std::printf("trace (Perfetto / chrome://tracing): %s\n", opt.trace.c_str());
-  }
-  if (!opt.dot.empty()) {
-    if (!write_file(opt.dot, schedule.to_dot())) {
-      std::fprintf(stderr, "penumbra_play: cannot write graph to %s\n", opt.dot.c_str());
-      return 1;
-    }
-    std::printf("job graph (Graphviz DOT): %s\n", opt.dot.c_str());
-  }
-  return 0;
 }

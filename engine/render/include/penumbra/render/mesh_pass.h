@@ -1,0 +1,64 @@
+// Mesh pass (shaders/mesh.glsl): triangle meshes with a model matrix and per-vertex lighting.
+//
+// Geometry cache: a MeshData is uploaded once (positions + normals interleaved, 32-bit
+// indices, one device-local buffer each) the first frame a draw references it, and kept while
+// draws keep referencing it; the cache holds the shared_ptr, so the address it is keyed by
+// cannot be reused while cached. An entry unused for kEvictAfterFrames frames is retired.
+// Vertex lighting (per-frame data) is copied into the frame's upload ring each frame and bound
+// as a second vertex stream. A mesh whose indices are out of range is rejected at upload (not
+// drawn, counted in rejected()).
+//
+// Threading: render thread only.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "penumbra/render/pass_context.h"
+#include "penumbra/render/pipeline.h"
+
+namespace penumbra::render {
+
+class MeshPass {
+ public:
+  static constexpr std::uint64_t kEvictAfterFrames = 8;
+
+  MeshPass(Device& device, VkFormat color_format, VkFormat depth_format);
+  void prepare(FrameContext& ctx);
+  void draw(FrameContext& ctx);
+
+  std::size_t cached_meshes() const { return cache_.size(); }
+  std::size_t rejected() const { return rejected_; }
+  std::uint64_t triangles() const { return triangles_; }  // drawn in the last frame
+
+ private:
+  struct GpuMesh {
+    std::shared_ptr<const assets::MeshData> source;
+    Buffer vertices;
+    Buffer indices;
+    std::uint32_t index_count = 0;
+    std::uint32_t vertex_count = 0;
+    std::uint64_t last_used = 0;
+    bool valid = false;
+  };
+  struct Draw {
+    const GpuMesh* mesh;
+    const MeshDraw* draw;
+    Slice lighting;  // buffer == VK_NULL_HANDLE: none
+  };
+  GpuMesh upload(FrameContext& ctx, const std::shared_ptr<const assets::MeshData>& mesh);
+
+  Device* device_;
+  PipelineLayout layout_;
+  Unique<VkPipeline> preview_;  // variant 0: no vertex lighting
+  Unique<VkPipeline> lit_;      // variant 1: vertex lighting
+  std::unordered_map<const assets::MeshData*, GpuMesh> cache_;
+  std::vector<Draw> draws_;
+  std::vector<float> scratch_;
+  std::size_t rejected_ = 0;
+  std::uint64_t triangles_ = 0;
+};
+
+}  // namespace penumbra::render

@@ -1,0 +1,57 @@
+// Overlay: a Dear ImGui (1.86) window over the frame in a WindowTarget: frame time, the CPU
+// time of every system of the job graph, the GPU time of every pass, and the debug-view
+// toggles (ViewSettings: sky, terrain, meshes, debug primitives, lighting only, tonemap,
+// exposure).
+//
+// ImGui draws into the LDR image after the tonemap (so screenshots of a windowed run show it),
+// through ImGui's Vulkan backend, which needs a VkRenderPass: the overlay owns one (LDR format,
+// load + store, COLOR_ATTACHMENT_OPTIMAL in and out) and a framebuffer per FrameImages.
+// Input comes from ImGui's GLFW backend (callbacks installed on the window).
+//
+// Per frame: build() (host side: UI state, edits `view`), then Renderer::render with
+// FrameRequest::overlay = this, which calls record(). One Overlay per process at a time (ImGui
+// has one global context).
+//
+// Threading: main thread (GLFW input), the render thread being the main thread.
+#pragma once
+
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "penumbra/render/frame_images.h"
+#include "penumbra/render/gpu_timer.h"
+#include "penumbra/render/packet.h"
+#include "penumbra/render/window.h"
+
+namespace penumbra::render {
+
+struct OverlayStats {
+  std::string device;
+  double frame_ms = 0;                                  // wall time of the whole frame loop
+  std::vector<std::pair<std::string, double>> systems;  // CPU ms per system (job graph)
+  std::vector<PassTime> passes;                         // GPU ms per pass
+};
+
+class Overlay {
+ public:
+  Overlay(Device& device, Window& window);
+  ~Overlay();
+  Overlay(const Overlay&) = delete;
+  Overlay& operator=(const Overlay&) = delete;
+
+  void build(const OverlayStats& stats, ViewSettings& view);
+  // Records the UI built by the last build() (nothing if none since the last record).
+  void record(VkCommandBuffer cmd, const FrameImages& images);
+
+ private:
+  Device* device_;
+  Unique<VkDescriptorPool> pool_;
+  Unique<VkRenderPass> render_pass_;
+  Unique<VkFramebuffer> framebuffer_;
+  std::uint64_t framebuffer_generation_ = 0;
+  bool built_ = false;
+};
+
+}  // namespace penumbra::render

@@ -1,0 +1,126 @@
+// The render packet: everything the renderer draws in one frame, as plain data.
+//
+// Contract: the renderer reads a RenderPacket and nothing else (never ECS storage); the extract
+// system (systems/render_extract) fills one per frame. Large arrays (height fields, lighting
+// textures, meshes, vertex lighting, environment maps) are shared through shared_ptr<const>:
+// the producer never changes data behind a published pointer, it publishes a new one. The
+// renderer keeps the pointers it uploaded and uploads again only when a pointer changes, so a
+// frame that changes nothing uploads nothing (vertex lighting and debug primitives, which are
+// per-frame data, are copied every frame).
+//
+// Conventions: world space in metres, right-handed, z up. Colours are linear RGB; lighting and
+// sky values are radiance-like HDR values (any scale; ViewSettings::exposure_ev brings them to
+// display range before the filmic tonemap).
+//
+// Threading: built by one thread, then read by the render thread; it must not change while
+// Renderer::render reads it. The shared arrays may be read by both at once (they are const).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "penumbra/assets/environment_map.h"
+#include "penumbra/assets/height_field.h"
+#include "penumbra/assets/mesh.h"
+
+namespace penumbra::render {
+
+struct Camera {
+  glm::vec3 position{0.0f, -10.0f, 5.0f};
+  glm::vec3 target{0.0f};
+  glm::vec3 up{0.0f, 0.0f, 1.0f};
+  float vertical_fov = 1.0f;  // radians
+  float near_plane = 0.1f;    // metres, > 0
+  float far_plane = 2000.0f;  // metres, > near_plane
+};
+
+struct Terrain {
+  std::shared_ptr<const assets::HeightField> heights;  // null or < 2x2 samples: no terrain
+  glm::vec3 origin{0.0f};  // world position of sample (0, 0) at height 0
+  glm::vec3 albedo{0.5f};  // the shaded colour is albedo * lighting
+  // Per-texel lighting: lighting_width * lighting_height linear RGB values, row-major (row =
+  // y). Texel (i, j) is centred on the terrain point at fraction (i / (lighting_width - 1),
+  // j / (lighting_height - 1)) of its extent, so a texture the size of the height field puts
+  // one texel on each height sample. Null (or too small for its size): lighting 1.
+  std::shared_ptr<const std::vector<glm::vec3>> lighting;
+  int lighting_width = 0;
+  int lighting_height = 0;
+};
+
+struct MeshDraw {
+  std::shared_ptr<const assets::MeshData> mesh;  // positions, normals (optional), indices
+  glm::mat4 transform{1.0f};                     // object -> world
+  glm::vec3 albedo{1.0f};                        // linear; the shaded colour is albedo * lighting
+  // Per-vertex lighting, one linear RGB value per mesh position. Null: the mesh pass shades with
+  // a fixed sun and sky from Sky (a preview, not the lighting systems' result).
+  std::shared_ptr<const std::vector<glm::vec3>> vertex_lighting;
+};
+
+// Debug primitives, drawn unlit with depth test (HDR colours, tonemapped like the scene).
+struct DebugSphere {  // a wire sphere (three great circles plus latitude rings)
+  glm::vec3 center{0.0f};
+  float radius = 1.0f;
+  glm::vec3 color{1.0f};
+};
+struct DebugLine {
+  glm::vec3 a{0.0f}, b{0.0f};
+  glm::vec3 color{1.0f};
+};
+struct DebugPoint {
+  glm::vec3 position{0.0f};
+  glm::vec3 color{1.0f};
+};
+
+struct Sky {
+  // Equirectangular map (row 0 = zenith, azimuth from +x towards +y: sh/projection.h); null:
+  // a procedural sky from the colours below.
+  std::shared_ptr<const assets::EnvironmentMap> environment;
+  float environment_intensity = 1.0f;
+  glm::vec3 sun_direction{0.4f, 0.3f, 0.866f};  // towards the sun; normalised by the renderer
+  glm::vec3 sun_radiance{40.0f, 36.0f, 30.0f};  // the sun disc (procedural sky)
+  glm::vec3 zenith{0.25f, 0.45f, 0.9f};
+  glm::vec3 horizon{0.8f, 0.85f, 0.9f};
+  glm::vec3 ground{0.25f, 0.22f, 0.2f};
+};
+
+// How to show the frame: exposure, tonemap and the debug-view toggles (the ImGui overlay edits
+// these).
+struct ViewSettings {
+  enum class Tonemap : std::uint32_t { kFilmic = 0, kLinear = 1 };
+  float exposure_ev = 0.0f;  // radiance is scaled by 2^exposure_ev before the tonemap
+  Tonemap tonemap = Tonemap::kFilmic;
+  bool sky = true;
+  bool terrain = true;
+  bool meshes = true;
+  bool debug = true;
+  bool lighting_only = false;  // albedo 1: show the lighting the systems computed
+  float point_size = 2.0f;     // pixels (1 where the device lacks large points)
+  // Terrain level of detail: the largest geometric error, in pixels on screen, a coarser chunk
+  // may show (render/terrain_pass.h); 0 draws every chunk at full detail.
+  float terrain_lod_pixels = 1.0f;
+};
+
+struct RenderPacket {
+  Camera camera;
+  Sky sky;
+  Terrain terrain;
+  std::vector<MeshDraw> meshes;
+  std::vector<DebugSphere> spheres;
+  std::vector<DebugLine> lines;
+  std::vector<DebugPoint> points;
+  ViewSettings view;
+
+  // Empties the per-frame lists, keeping their capacity (camera, sky, terrain, view stay).
+  void clear_lists() {
+    meshes.clear();
+    spheres.clear();
+    lines.clear();
+    points.clear();
+  }
+};
+
+}  // namespace penumbra::render

@@ -1,0 +1,29 @@
+// The main job's options and its two renderer loops (play_render.cpp); private to penumbra_play.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace penumbra::play {
+
+struct Options {
+  int frames = 0;  // 0: 300 headless, until the window closes otherwise
+  int threads = 0;
+  std::size_t particles = 200'000;
+  std::string trace, dot;
+  std::string out;        // screenshots (*.png) go here; empty: none
+  int screenshots = 3;    // headless: spread over the run (first after warm-up, middle, last)
+  bool headless = false;  // force offscreen even with a display
+  bool render = true;     // --no-render: simulation only (the pre-renderer main job)
+  bool validation = false;
+  std::string device;  // render/device_select.h
+  int width = 960, height = 540;
+  std::size_t points = 50'000;  // particles drawn at most (every k-th); 0: all
+};
+
+// Both print the per-system CPU table and the per-pass GPU table; return main()'s status.
+int run_headless(const Options& options);
+int run_window(const Options& options);
+int run_simulation_only(const Options& options);
+
+}  // namespace penumbra::play

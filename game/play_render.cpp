@@ -1,0 +1,262 @@
+// The main job's loops: simulation only, headless (offscreen renderer, PNG screenshots) and
+// windowed (swapchain + ImGui overlay). See play_main.cpp for the options.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "penumbra/game/sample_render.h"
+#include "penumbra/game/sample_world.h"
+#include "penumbra/jobs/executor.h"
+#include "penumbra/jobs/frame_report.h"
+#include "penumbra/render/image.h"
+#include "penumbra/render/offscreen_target.h"
+#include "penumbra/render/overlay.h"
+#include "penumbra/render/renderer.h"
+#include "penumbra/render/window.h"
+#include "penumbra/render/window_target.h"
+#include "penumbra/systems/render_extract/render_extract.h"
+#include "play.h"
+
+namespace penumbra::play {
+namespace {
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+
+bool write_file(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    if (!(f << text)) return false;
+  }
+  return std::rename(tmp.c_str(), path.c_str()) == 0;  // atomic replace
+}
+
+// The sample world, its job graph and the CPU-side reports.
+struct Sim {
+  ecs::World world;
+  jobs::Schedule schedule;
+  jobs::Executor executor;
+  jobs::TimingTable table;
+  std::vector<jobs::FrameStats> traced;
+  const Options& options;
+  int warmup = 0;
+
+  Sim(const Options& o, bool with_render) : executor(o.threads), options(o) {
+    game::SampleWorldConfig config;
+    config.particles = o.particles;
+    game::populate_sample_world(world, config);
+    game::add_sample_systems(schedule);
+    if (with_render) {
+      game::SampleSceneConfig scene;
+      scene.max_points = o.points;
+      game::populate_sample_scene(world, scene);
+      game::add_sample_render_systems(schedule, scene);
+    }
+    executor.set_trace_tasks(!o.trace.empty());
+  }
+
+  const jobs::FrameStats& step(int frame, int frames) {
+    const jobs::FrameStats& stats = executor.run(schedule, world);
+    if (frame >= warmup) table.add(stats);
+    if (!options.trace.empty() && frames > 0 && frame >= frames - 3) traced.push_back(stats);
+    return stats;
+  }
+
+  // Prints the CPU table, writes the trace and the graph; false when a file cannot be written.
+  bool report(int frames, const char* what) {
+    std::printf("penumbra: sample world, %zu entities, %d frames (%d warm-up), %d threads%s\n",
+                world.size(), frames, warmup, executor.threads(), what);
+    table.print(std::cout);
+    std::cout.flush();
+    if (!options.trace.empty()) {
+      if (!write_file(options.trace, jobs::chrome_trace_json(traced))) {
+        std::fprintf(stderr, "penumbra_play: cannot write trace to %s\n", options.trace.c_str());
+        return false;
+      }
+      std::printf("trace (Perfetto / chrome://tracing): %s\n", options.trace.c_str());
+    }
+    if (!options.dot.empty()) {
+      if (!write_file(options.dot, schedule.to_dot())) {
+        std::fprintf(stderr, "penumbra_play: cannot write graph to %s\n", options.dot.c_str());
+        return false;
+      }
+      std::printf("job graph (Graphviz DOT): %s\n", options.dot.c_str());
+    }
+    return true;
+  }
+};
+
+render::InstanceConfig instance_config(const Options& o) {
+  render::InstanceConfig c;
+  c.app_name = "penumbra_play";
+  if (o.validation) c.validation = c.require_validation = true;
+  return c;
+}
+
+std::string screenshot_path(const Options& o, const std::string& name) {
+  std::filesystem::create_directories(o.out);
+  return (std::filesystem::path(o.out) / name).string();
+}
+
+void print_frame_summary(double wall_ms, double sim_ms, double submit_ms, std::size_t n) {
+  if (n == 0) return;
+  const double k = 1.0 / static_cast<double>(n);
+  std::printf(
+      "frame (wall): %.2f ms = %.1f fps  [simulation %.2f ms, render record+submit %.2f ms]\n",
+      wall_ms * k, 1000.0 / (wall_ms * k), sim_ms * k, submit_ms * k);
+}
+}  // namespace
+
+int run_simulation_only(const Options& o) {
+  Sim sim(o, /*with_render=*/false);
+  const int frames = o.frames > 0 ? o.frames : 300;
+  sim.warmup = frames > 10 ? 5 : 0;
+  for (int f = 0; f < frames; ++f) sim.step(f, frames);
+  return sim.report(frames, ", no renderer") ? 0 : 1;
+}
+
+int run_headless(const Options& o) {
+  Sim sim(o, /*with_render=*/true);
+  const int frames = o.frames > 0 ? o.frames : 300;
+  sim.warmup = frames > 10 ? 5 : 0;
+  render::Instance instance(instance_config(o));
+  render::DeviceConfig dc;
+  dc.force = o.device;
+  render::Device device(instance, dc);
+  render::Renderer renderer(device);
+  render::OffscreenTarget target(static_cast<std::uint32_t>(o.width),
+                                 static_cast<std::uint32_t>(o.height));
+
+  // Screenshot frames: spread from the first after warm-up to the last.
+  std::vector<int> shots;
+  if (!o.out.empty() && o.screenshots > 0) {
+    const int k = o.screenshots;
+    for (int i = 0; i < k; ++i)
+      shots.push_back(k == 1 ? frames - 1 : sim.warmup + (frames - 1 - sim.warmup) * i / (k - 1));
+  }
+  std::vector<std::string> written;
+  double wall = 0, sim_ms = 0, submit = 0;
+  std::size_t timed = 0;
+  for (int f = 0; f < frames; ++f) {
+    if (f == sim.warmup) {
+      renderer.wait_idle();
+      renderer.pass_table().clear();
+    }
+    const auto t0 = Clock::now();
+    sim.step(f, frames);
+    const double t_sim = ms_since(t0);
+    const render::RenderPacket& packet = sim.world.resource<render::RenderPacket>();
+    const auto t1 = Clock::now();
+    if (std::find(shots.begin(), shots.end(), f) != shots.end()) {
+      const auto image = renderer.capture(packet, target);
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d.png", f);
+      if (image) {
+        written.push_back(screenshot_path(o, name));
+        render::write_png(written.back(), *image);
+      }
+      continue;  // a capture waits for the GPU: not a representative frame time
+    }
+    renderer.render(packet, target);
+    if (f >= sim.warmup) {
+      submit += ms_since(t1);
+      sim_ms += t_sim;
+      wall += ms_since(t0);
+      ++timed;
+    }
+  }
+  renderer.wait_idle();
+  const std::string what = ", renderer: " + device.name() + " " + std::to_string(o.width) + "x" +
+                           std::to_string(o.height) + " offscreen";
+  if (!sim.report(frames, what.c_str())) return 1;
+  renderer.pass_table().print(std::cout);
+  print_frame_summary(wall, sim_ms, submit, timed);
+  const auto stats = renderer.stats();
+  std::printf("drawn per frame: %llu terrain + %llu mesh triangles, %zu points; upload %.2f MiB\n",
+              static_cast<unsigned long long>(stats.terrain_triangles),
+              static_cast<unsigned long long>(stats.mesh_triangles),
+              sim.world.resource<render::RenderPacket>().points.size(),
+              static_cast<double>(stats.uploaded) / (1 << 20));
+  for (const std::string& p : written) std::printf("screenshot: %s\n", p.c_str());
+  if (instance.validation()) std::printf("validation: %s\n", instance.messages().summary().c_str());
+  return 0;
+}
+
+int run_window(const Options& o) {
+  Sim sim(o, /*with_render=*/true);
+  sim.warmup = 5;
+  render::Glfw glfw;
+  render::InstanceConfig ic = instance_config(o);
+  ic.extensions = glfw.instance_extensions();
+  render::Instance instance(ic);
+  render::Window window(glfw, instance, o.width, o.height, "penumbra");
+  render::DeviceConfig dc;
+  dc.force = o.device;
+  dc.present_surface = window.surface();
+  render::Device device(instance, dc);
+  render::WindowTarget target(device, window, render::Renderer::kFramesInFlight,
+                              /*vsync=*/false);
+  render::Renderer renderer(device);
+  render::Overlay overlay(device, window);
+  systems::RenderSettings& settings = sim.world.resource<systems::RenderSettings>();
+
+  render::OverlayStats stats;
+  stats.device = device.name();
+  double wall = 0, sim_ms = 0, submit = 0;
+  std::size_t timed = 0;
+  int f = 0;
+  auto last = Clock::now();
+  for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
+    window.poll_events();
+    if (window.escape_pressed()) window.request_close();
+    if (f == sim.warmup) renderer.pass_table().clear();
+    const auto t0 = Clock::now();
+    const jobs::FrameStats& frame = sim.step(f, o.frames);
+    const double t_sim = ms_since(t0);
+    stats.frame_ms = std::chrono::duration<double, std::milli>(t0 - last).count();
+    last = t0;
+    stats.systems.clear();
+    for (const jobs::SystemTiming& s : frame.systems)
+      if (!s.sync)
+        stats.systems.emplace_back(std::string(s.name), 1e-6 * static_cast<double>(s.duration_ns));
+    stats.passes = renderer.last_pass_times();
+    render::RenderPacket& packet = sim.world.resource<render::RenderPacket>();
+    overlay.build(stats, settings.view);
+    packet.view = settings.view;  // the toggles apply to this frame already
+    const auto t1 = Clock::now();
+    renderer.render(packet, target, {false, &overlay});
+    if (f >= sim.warmup) {
+      submit += ms_since(t1);
+      sim_ms += t_sim;
+      wall += ms_since(t0);
+      ++timed;
+    }
+  }
+  std::string shot;
+  if (!o.out.empty()) {
+    const render::RenderPacket& packet = sim.world.resource<render::RenderPacket>();
+    overlay.build(stats, settings.view);
+    if (const auto image = renderer.capture(packet, target, &overlay)) {
+      shot = screenshot_path(o, "window.png");
+      render::write_png(shot, *image);
+    }
+  }
+  renderer.wait_idle();
+  const std::string what = ", renderer: " + device.name() + " window";
+  if (!sim.report(f, what.c_str())) return 1;
+  renderer.pass_table().print(std::cout);
+  print_frame_summary(wall, sim_ms, submit, timed);
+  if (!shot.empty()) std::printf("screenshot: %s\n", shot.c_str());
+  return 0;
+}
+
+}  // namespace penumbra::play

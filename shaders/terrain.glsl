@@ -1,0 +1,51 @@
+// Terrain pass: the height field as a grid mesh, drawn per chunk at a level of detail (see
+// engine/render/include/penumbra/render/terrain_pass.h). Vertices come from gl_VertexIndex and
+// the heights storage buffer (no vertex buffer): index i < width*height is sample i; i +
+// width*height is the same sample lowered by the chunk's skirt depth (skirts hide the cracks
+// between chunks of different detail). The fragment shader samples the per-texel lighting
+// texture (texel centres on the height samples), so lighting keeps its full resolution at any
+// geometric detail, and multiplies the albedo.
+#version 460
+#extension GL_GOOGLE_include_directive : require
+#include "common.glsl"
+
+layout(push_constant) uniform Push {
+  vec4 origin_cell;  // xyz: world position of sample (0, 0) at height 0; w: cell size
+  vec4 albedo;       // rgb: albedo; w: 1 when a lighting texture is bound
+  ivec4 grid;        // x: samples along x, y: samples along y
+  vec4 skirt;        // x: skirt depth of the chunk being drawn (metres)
+} pc;
+
+#ifdef PENUMBRA_VERTEX
+layout(set = 0, binding = 1, std430) readonly buffer Heights { float heights[]; };
+layout(location = 0) out vec2 v_uv;
+void main() {
+  int w = pc.grid.x;
+  int samples = pc.grid.x * pc.grid.y;
+  int i = gl_VertexIndex;
+  float drop = 0.0;
+  if (i >= samples) {
+    i -= samples;
+    drop = pc.skirt.x;
+  }
+  int x = i % w;
+  int y = i / w;
+  vec3 p = pc.origin_cell.xyz + vec3(x * pc.origin_cell.w, y * pc.origin_cell.w, heights[i] - drop);
+  v_uv = vec2(x, y) / vec2(pc.grid.xy - 1);
+  gl_Position = camera.view_proj * vec4(p, 1.0);
+}
+#endif
+
+#ifdef PENUMBRA_FRAGMENT
+layout(set = 0, binding = 2) uniform sampler2D lighting;
+layout(location = 0) in vec2 v_uv;
+layout(location = 0) out vec4 out_color;
+void main() {
+  vec3 light = vec3(1.0);
+  if (pc.albedo.w > 0.5) {
+    vec2 size = vec2(textureSize(lighting, 0));
+    light = texture(lighting, (v_uv * (size - 1.0) + 0.5) / size).rgb;
+  }
+  out_color = vec4(view_albedo(pc.albedo.rgb) * light, 1.0);
+}
+#endif

@@ -1,0 +1,41 @@
+// The render extract: the one system that reads ECS components for the renderer. Each frame it
+// rebuilds the render::RenderPacket resource from
+//   Camera (resource; defaults when absent)          -> packet.camera
+//   RenderSettings (resource; defaults when absent)  -> packet.sky, packet.view
+//   TerrainSurface [+ TerrainLighting]                -> packet.terrain (the first such entity)
+//   Transform + MeshInstance [+ BaseColor, VertexLighting] -> packet.meshes
+//   DebugSphere                                       -> packet.spheres
+// Large arrays are shared by pointer (no copies); the packet's lists keep their capacity from
+// frame to frame. Other systems may append to the packet after it (declare
+// .writes<render::RenderPacket>(): the job graph orders writers by registration), e.g. the
+// sample world's particles as debug points.
+//
+// The renderer then draws the packet after the frame's job graph has finished: it never reads
+// ECS storage, and the packet holds no pointer into it.
+//
+// Threading: a task system (one thread); it only reads components.
+#pragma once
+
+#include "penumbra/ecs/world.h"
+#include "penumbra/jobs/schedule.h"
+#include "penumbra/render/packet.h"
+
+namespace penumbra::systems {
+
+// Resource: how to show the frame (sky, exposure, debug views), edited by the game and the
+// ImGui overlay.
+struct RenderSettings {
+  render::Sky sky;
+  render::ViewSettings view;
+};
+
+// Adds the RenderPacket and RenderSettings resources when absent.
+void emplace_render_resources(ecs::World& world);
+
+// Registers the "render_extract" task system (reads and writes declared).
+jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule);
+
+// What the system does, callable directly (tests, tools).
+void extract_render_packet(ecs::World& world, render::RenderPacket& packet);
+
+}  // namespace penumbra::systems

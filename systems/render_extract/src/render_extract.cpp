@@ -1,0 +1,85 @@
+#include "penumbra/systems/render_extract/render_extract.h"
+
+#include "penumbra/components/camera.h"
+#include "penumbra/components/debug_shapes.h"
+#include "penumbra/components/lighting_result.h"
+#include "penumbra/components/mesh.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/components/transform.h"
+
+namespace penumbra::systems {
+namespace {
+using components::BaseColor;
+using components::Camera;
+using components::DebugSphere;
+using components::MeshInstance;
+using components::TerrainLighting;
+using components::TerrainSurface;
+using components::Transform;
+using components::VertexLighting;
+
+render::Camera to_render(const Camera& c) {
+  return {c.position, c.target, c.up, c.vertical_fov, c.near_plane, c.far_plane};
+}
+}  // namespace
+
+void emplace_render_resources(ecs::World& world) {
+  if (world.try_resource<render::RenderPacket>() == nullptr)
+    world.emplace_resource<render::RenderPacket>();
+  if (world.try_resource<RenderSettings>() == nullptr) world.emplace_resource<RenderSettings>();
+}
+
+void extract_render_packet(ecs::World& world, render::RenderPacket& packet) {
+  packet.clear_lists();
+  const Camera* camera = world.try_resource<Camera>();
+  packet.camera = to_render(camera ? *camera : Camera{});
+  if (const RenderSettings* s = world.try_resource<RenderSettings>()) {
+    packet.sky = s->sky;
+    packet.view = s->view;
+  }
+
+  packet.terrain = {};
+  bool have_terrain = false;
+  world.query<const TerrainSurface>().each([&](ecs::Entity e, const TerrainSurface& t) {
+    if (have_terrain) return;
+    have_terrain = true;
+    packet.terrain.heights = t.heights;
+    packet.terrain.origin = t.origin;
+    packet.terrain.albedo = t.albedo;
+    if (const TerrainLighting* l = world.get<TerrainLighting>(e)) {
+      packet.terrain.lighting = l->rgb;
+      packet.terrain.lighting_width = l->width;
+      packet.terrain.lighting_height = l->height;
+    }
+  });
+
+  world.query<const Transform, const MeshInstance>().each(
+      [&](ecs::Entity e, const Transform& t, const MeshInstance& m) {
+        if (!m.mesh) return;
+        render::MeshDraw d;
+        d.mesh = m.mesh;
+        d.transform = t.world;
+        const BaseColor* c = world.get<BaseColor>(e);
+        d.albedo = c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
+        if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
+        packet.meshes.push_back(std::move(d));
+      });
+
+  world.query<const DebugSphere>().each([&](const DebugSphere& s) {
+    packet.spheres.push_back({s.center, s.radius, s.color});
+  });
+}
+
+jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
+  return schedule
+      .add_task("render_extract",
+                [](jobs::SystemContext& ctx) {
+                  ecs::World& w = ctx.world();
+                  extract_render_packet(w, w.resource<render::RenderPacket>());
+                })
+      .reads<Camera, RenderSettings, TerrainSurface, TerrainLighting, Transform, MeshInstance,
+             BaseColor, VertexLighting, DebugSphere>()
+      .writes<render::RenderPacket>();
+}
+
+}  // namespace penumbra::systems
