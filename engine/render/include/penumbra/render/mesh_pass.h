@@ -5,8 +5,9 @@
 // draws keep referencing it; the cache holds the shared_ptr, so the address it is keyed by
 // cannot be reused while cached. An entry unused for kEvictAfterFrames frames is retired.
 // Vertex lighting (per-frame data) is copied into the frame's upload ring each frame and bound
-// as a second vertex stream. A mesh whose indices are out of range is rejected at upload (not
-// drawn, counted in rejected()).
+// as a second vertex stream (fewer values than positions: the preview shading instead). A mesh
+// whose indices are out of range is rejected at upload (not drawn, counted in rejected()).
+// Back faces are culled: counter-clockwise triangles seen from outside are front faces (glTF).
 //
 // Threading: render thread only.
 #pragma once

@@ -1,6 +1,7 @@
 // Renderer: draws a RenderPacket into a Target, one frame per render() call.
 //
-// A frame, in command order (each pass its own dynamic-rendering scope and GPU timestamp pair):
+// A frame, in command order (each scene pass its own dynamic-rendering scope; a GPU timestamp
+// mark after each step, gpu_timer.h):
 //   upload   terrain / mesh / environment uploads, this frame's vertex lighting, debug lists
 //   terrain  clears HDR colour + depth, draws the height field      } HDR image (RGBA16F)
 //   meshes   per-vertex-lit meshes                                   } + reversed depth

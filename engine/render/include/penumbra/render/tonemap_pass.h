@@ -1,6 +1,7 @@
 // Tonemap pass (shaders/tonemap.glsl): reads the HDR image (SHADER_READ_ONLY_OPTIMAL) and
-// writes the LDR image: radiance * 2^exposure_ev, then the filmic curve (ACES fit) or a clamp,
-// then sRGB encoding. Drawn inside a rendering scope on the LDR image.
+// writes the LDR image: radiance * 2^exposure_ev, then the filmic curve (Hejl / Burgess-Dawson,
+// display-encoded) or a clamp with exact sRGB encoding. Drawn inside a rendering scope on the
+// LDR image.
 //
 // Threading: render thread only.
 #pragma once
