@@ -6,6 +6,24 @@
 
 namespace penumbra::render {
 
+namespace {
+// Memory for `req`: host-visible and coherent (mapped uploads) or device-local.
+Unique<VkDeviceMemory> allocate_memory(Device& device, const VkMemoryRequirements& req,
+                                       bool host_visible) {
+  VkMemoryAllocateInfo alloc =
+      vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex =
+      host_visible
+          ? device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)
+          : device.memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  vk_check(vkAllocateMemory(device.handle(), &alloc, nullptr, &memory), "vkAllocateMemory");
+  return Unique<VkDeviceMemory>(device, memory, vkFreeMemory, ObjectKind::kMemory);
+}
+}  // namespace
+
 Buffer create_buffer(Device& device, VkDeviceSize size, VkBufferUsageFlags usage,
                      bool host_visible) {
   Buffer b;
@@ -20,17 +38,8 @@ Buffer create_buffer(Device& device, VkDeviceSize size, VkBufferUsageFlags usage
 
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device.handle(), handle, &req);
-  VkMemoryAllocateInfo alloc =
-      vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex =
-      host_visible
-          ? device.memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
-                                                       VK_MEMORY_PROPERTY_HOST_COHERENT_BIT)
-          : device.memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  vk_check(vkAllocateMemory(device.handle(), &alloc, nullptr, &memory), "vkAllocateMemory");
-  b.memory = Unique<VkDeviceMemory>(device, memory, vkFreeMemory, ObjectKind::kMemory);
+  b.memory = allocate_memory(device, req, host_visible);
+  const VkDeviceMemory memory = b.memory.get();
   vk_check(vkBindBufferMemory(device.handle(), handle, memory, 0), "vkBindBufferMemory");
   if (host_visible)
     vk_check(vkMapMemory(device.handle(), memory, 0, VK_WHOLE_SIZE, 0, &b.mapped), "vkMapMemory");
@@ -57,14 +66,8 @@ Image create_image(Device& device, const ImageDesc& desc) {
 
   VkMemoryRequirements req;
   vkGetImageMemoryRequirements(device.handle(), handle, &req);
-  VkMemoryAllocateInfo alloc =
-      vk_struct<VkMemoryAllocateInfo>(VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO);
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex =
-      device.memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  vk_check(vkAllocateMemory(device.handle(), &alloc, nullptr, &memory), "vkAllocateMemory");
-  img.memory = Unique<VkDeviceMemory>(device, memory, vkFreeMemory, ObjectKind::kMemory);
+  img.memory = allocate_memory(device, req, /*host_visible=*/false);
+  const VkDeviceMemory memory = img.memory.get();
   vk_check(vkBindImageMemory(device.handle(), handle, memory, 0), "vkBindImageMemory");
 
   VkImageViewCreateInfo view =
