@@ -7,6 +7,8 @@
 namespace penumbra::play {
 
 struct Options {
+  std::string scene = "terrain";  // "terrain": the DEM demo (terrain_demo.h); "sample": particles
+  std::string data;               // ../shared/data when empty
   int frames = 0;  // 0: 300 headless, until the window closes otherwise
   int threads = 0;
   std::size_t particles = 200'000;

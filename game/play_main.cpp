@@ -1,9 +1,13 @@
 // The main job: the sample world through the job graph and the Vulkan renderer.
 //
-//   penumbra_play [--frames N] [--threads T] [--particles N] [--trace FILE] [--dot FILE]
+//   penumbra_play [--scene terrain|sample] [--data DIR] [--frames N] [--threads T] [--particles N]
+//   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
 //                 [--device NAME] [--size WxH] [--points N]
 //
+// --scene terrain (default): the elevation model lit by the terrain shadow system under a
+// rotating HDR sky, a moving spherical light and periodic brush edits (terrain_demo.h);
+// --scene sample: the particle sample world. --data DIR overrides ../shared/data.
 // With a display ($DISPLAY / $WAYLAND_DISPLAY) and no --headless: a window with the ImGui
 // overlay, until it is closed (or N frames). Otherwise offscreen: N frames (default 300), K
 // screenshots written to DIR as PNG. Both print the per-system CPU timing table and the
@@ -22,7 +26,8 @@ using penumbra::play::Options;
 
 [[noreturn]] void usage(const char* error) {
   std::fprintf(stderr,
-               "penumbra_play: %s\nusage: penumbra_play [--frames N] [--threads T] "
+               "penumbra_play: %s\nusage: penumbra_play [--scene terrain|sample] [--data DIR] "
+               "[--frames N] [--threads T] "
                "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
                "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
                "[--points N]\n",
@@ -46,7 +51,13 @@ Options parse(int argc, char** argv) {
         usage((a + " needs an integer >= " + std::to_string(lo) + ", got '" + v + "'").c_str());
       return n;
     };
-    if (a == "--frames")
+    if (a == "--scene") {
+      o.scene = value();
+      if (o.scene != "terrain" && o.scene != "sample")
+        usage(("--scene needs terrain or sample, got '" + o.scene + "'").c_str());
+    } else if (a == "--data")
+      o.data = value();
+    else if (a == "--frames")
       o.frames = static_cast<int>(number(1));
     else if (a == "--threads")
       o.threads = static_cast<int>(number(0));

@@ -10,8 +10,11 @@
 #include <string>
 #include <vector>
 
+#include <GLFW/glfw3.h>
+
 #include "penumbra/game/sample_render.h"
 #include "penumbra/game/sample_world.h"
+#include "penumbra/game/terrain_demo.h"
 #include "penumbra/jobs/executor.h"
 #include "penumbra/jobs/frame_report.h"
 #include "penumbra/render/image.h"
@@ -51,6 +54,16 @@ struct Sim {
   int warmup = 0;
 
   Sim(const Options& o, bool with_render) : executor(o.threads), options(o) {
+    executor.set_trace_tasks(!o.trace.empty());
+    if (o.scene == "terrain") {
+      game::TerrainDemoConfig demo;
+      demo.data_dir = o.data;
+      game::populate_terrain_demo(world, demo);
+      world.resource<game::HorizonProbe>().aspect =
+          static_cast<float>(o.width) / static_cast<float>(o.height);
+      game::add_terrain_demo_systems(schedule, demo);
+      return;
+    }
     game::SampleWorldConfig config;
     config.particles = o.particles;
     game::populate_sample_world(world, config);
@@ -73,8 +86,9 @@ struct Sim {
 
   // Prints the CPU table, writes the trace and the graph; false when a file cannot be written.
   bool report(int frames, const char* what) {
-    std::printf("penumbra: sample world, %zu entities, %d frames (%d warm-up), %d threads%s\n",
-                world.size(), frames, warmup, executor.threads(), what);
+    std::printf("penumbra: %s, %zu entities, %d frames (%d warm-up), %d threads%s\n",
+                options.scene == "terrain" ? "terrain demo" : "sample world", world.size(), frames,
+                warmup, executor.threads(), what);
     table.print(std::cout);
     std::cout.flush();
     if (!options.trace.empty()) {
@@ -218,6 +232,18 @@ int run_window(const Options& o) {
   for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
     window.poll_events();
     if (window.escape_pressed()) window.request_close();
+    if (auto* probe = sim.world.try_resource<game::HorizonProbe>()) {
+      // The horizon debug view follows the cursor (window coordinates to NDC, y down).
+      double cx = 0, cy = 0;
+      int ww = 1, wh = 1;
+      glfwGetCursorPos(window.glfw(), &cx, &cy);
+      glfwGetWindowSize(window.glfw(), &ww, &wh);
+      if (ww > 0 && wh > 0) {
+        probe->ndc = {2.0f * static_cast<float>(cx) / ww - 1.0f,
+                      2.0f * static_cast<float>(cy) / wh - 1.0f};
+        probe->aspect = static_cast<float>(ww) / static_cast<float>(wh);
+      }
+    }
     if (f == sim.warmup) renderer.pass_table().clear();
     const auto t0 = Clock::now();
     const jobs::FrameStats& frame = sim.step(f, o.frames);

@@ -10,7 +10,7 @@ layout(set = 0, binding = 0, std140) uniform CameraBlock {
   vec4 sky_zenith;     // rgb
   vec4 sky_horizon;    // rgb
   vec4 sky_ground;     // rgb
-  vec4 params;  // x: lighting-only view (1/0), y: point size, z: environment intensity
+  vec4 params;  // x: lighting-only view (1/0), y: point size, z: environment intensity, w: its rotation
 } camera;
 
 // Pipeline variant (PipelineDesc::variant): lets a pass pick a code path at pipeline creation.

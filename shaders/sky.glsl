@@ -29,8 +29,8 @@ void main() {
   vec3 dir = normalize(v_ray);
   vec3 c;
   if (kVariant == 1) {
-    float u = atan(dir.y, dir.x) / (2.0 * kPi);
-    if (u < 0.0) u += 1.0;
+    float u = (atan(dir.y, dir.x) - camera.params.w) / (2.0 * kPi);
+    u -= floor(u);
     float v = acos(clamp(dir.z, -1.0, 1.0)) / kPi;
     c = textureLod(environment, vec2(u, v), 0.0).rgb * camera.params.z;
   } else {

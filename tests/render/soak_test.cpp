@@ -119,7 +119,7 @@ TEST(Soak, TwoThousandFramesWithEntityChurnKeepObjectsAndMemoryFlat) {
   emplace_render_resources(world);
   world.emplace_resource<Camera>() = {{0, -12, 6}, {0, 0, 0}, {0, 0, 1}, 0.9f, 0.1f, 100.0f};
   world.create_with(
-      TerrainSurface{render::test::make_hills(16, 1.0f), {-8, -8, -1}, glm::vec3(0.6f)},
+      Terrain{render::test::make_hills(16, 1.0f), {-8, -8, -1}, glm::vec3(0.6f)},
       TerrainLighting{});
   world.emplace_resource<FrameTime>();
   jobs::Schedule schedule;

@@ -14,7 +14,7 @@ using components::Camera;
 using components::DebugSphere;
 using components::MeshInstance;
 using components::TerrainLighting;
-using components::TerrainSurface;
+using components::Terrain;
 using components::Transform;
 using components::VertexLighting;
 
@@ -40,7 +40,7 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet) {
 
   packet.terrain = {};
   bool have_terrain = false;
-  world.query<const TerrainSurface>().each([&](ecs::Entity e, const TerrainSurface& t) {
+  world.query<const Terrain>().each([&](ecs::Entity e, const Terrain& t) {
     if (have_terrain) return;
     have_terrain = true;
     packet.terrain.heights = t.heights;
@@ -77,7 +77,7 @@ jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
                   ecs::World& w = ctx.world();
                   extract_render_packet(w, w.resource<render::RenderPacket>());
                 })
-      .reads<Camera, RenderSettings, TerrainSurface, TerrainLighting, Transform, MeshInstance,
+      .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance,
              BaseColor, VertexLighting, DebugSphere>()
       .writes<render::RenderPacket>();
 }

@@ -1,5 +1,5 @@
 // Lighting results the renderer shows, written by the lighting systems: per-vertex lighting of
-// a mesh (with MeshInstance) and per-texel lighting of a terrain (with TerrainSurface). Linear
+// a mesh (with MeshInstance) and per-texel lighting of a terrain (with Terrain). Linear
 // RGB; the shaded colour is albedo * lighting.
 //
 // The arrays are shared and immutable once published: a system that recomputes lighting

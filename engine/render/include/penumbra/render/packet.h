@@ -80,6 +80,9 @@ struct Sky {
   // a procedural sky from the colours below.
   std::shared_ptr<const assets::EnvironmentMap> environment;
   float environment_intensity = 1.0f;
+  // Radians counter-clockwise about +z: world radiance L(R_z(rotation) w) = map(w), as
+  // components::EnvironmentLight and reference::EnvironmentLight.
+  float environment_rotation = 0.0f;
   glm::vec3 sun_direction{0.4f, 0.3f, 0.866f};  // towards the sun; normalised by the renderer
   glm::vec3 sun_radiance{40.0f, 36.0f, 30.0f};  // the sun disc (procedural sky)
   glm::vec3 zenith{0.25f, 0.45f, 0.9f};

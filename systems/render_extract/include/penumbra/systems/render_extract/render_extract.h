@@ -2,7 +2,7 @@
 // rebuilds the render::RenderPacket resource from
 //   Camera (resource; defaults when absent)          -> packet.camera
 //   RenderSettings (resource; defaults when absent)  -> packet.sky, packet.view
-//   TerrainSurface [+ TerrainLighting]                -> packet.terrain (the first such entity)
+//   Terrain [+ TerrainLighting]                -> packet.terrain (the first such entity)
 //   Transform + MeshInstance [+ BaseColor, VertexLighting] -> packet.meshes
 //   DebugSphere                                       -> packet.spheres
 // Large arrays are shared by pointer (no copies); the packet's lists keep their capacity from

@@ -1,0 +1,24 @@
+// The distant environment light, a world resource: an HDR map and its SH projection.
+// Writers (the environment stage, the demo) bump `version` when the map or its SH change;
+// rotating the sky only changes rotation_z (readers re-shade from stored transfer vectors).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+
+#include "penumbra/sh/basis.h"
+
+namespace penumbra::assets {
+struct EnvironmentMap;  // penumbra/assets/environment_map.h
+}
+
+namespace penumbra::components {
+
+struct EnvironmentLight {
+  std::shared_ptr<const assets::EnvironmentMap> map;  // may be null when only SH is known
+  sh::CoeffsRgb<sh::kDefaultBands> radiance{};        // SH of the map's radiance, unrotated
+  float rotation_z = 0;  // radians, counter-clockwise about +z (the map's world orientation)
+  std::uint64_t version = 0;
+};
+
+}  // namespace penumbra::components

@@ -1,0 +1,48 @@
+// The demo scene of the main job: the real elevation model (../shared/data/terrain) lit by the
+// terrain shadow system under an HDR sky whose SH rotates slowly, a spherical light circling
+// over it, and a brush edit (crater or raise, alternating) every few seconds, so soft shadows
+// visibly follow. A debug view draws the horizon wedges of one texel (the one under the cursor
+// in the window, the view centre headless).
+//
+// Systems (register with add_terrain_demo_systems; they run in this order):
+//   demo_clock        writes FrameTime (fixed 1/30 s steps: headless runs are reproducible)
+//   demo_animate      reads FrameTime, writes EnvironmentLight (rotation), SphericalLight
+//                     (path), Terrain (brush edits), RenderSettings (sky rotation)
+//   demo_camera       reads FrameTime, writes Camera (slow orbit)
+//   terrain_shadow.*  (systems/terrain_shadow)
+//   render_extract, demo_debug_view (horizon wedges + the light as a wire sphere)
+#pragma once
+
+#include <string>
+
+#include <glm/vec2.hpp>
+
+#include "penumbra/ecs/world.h"
+#include "penumbra/jobs/schedule.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
+
+namespace penumbra::game {
+
+struct TerrainDemoConfig {
+  std::string data_dir;                 // ../shared/data; empty: PENUMBRA_SHARED_DATA
+  std::string environment = "sky.exr";  // in data_dir/hdri
+  int terrain_size = 256;               // samples per side, cropped from the DEM's centre
+  float sky_rotation_speed = 0.05f;     // rad/s
+  float edit_interval = 3.0f;           // seconds between brush edits; <= 0: none
+  terrain_shadow::TerrainShadowConfig shadow{};
+};
+
+// Resource: which texel's horizon the debug view draws, as a point on the screen in NDC
+// ([-1, 1]^2, y down); the demo's camera ray through it picks the terrain.
+struct HorizonProbe {
+  bool enabled = true;
+  glm::vec2 ndc{0.0f, 0.0f};
+  float aspect = 16.0f / 9.0f;  // of the view, to build the ray
+};
+
+// Loads the DEM and the map (throws assets::LoadError / std::invalid_argument naming the file)
+// and adds the entities and resources.
+void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config = {});
+void add_terrain_demo_systems(jobs::Schedule& schedule, const TerrainDemoConfig& config = {});
+
+}  // namespace penumbra::game

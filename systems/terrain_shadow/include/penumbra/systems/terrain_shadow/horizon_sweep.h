@@ -1,0 +1,58 @@
+// Exact horizons by line sweep (Timonen and Westerholm 2010, "Scalable Height Field
+// Self-Shadowing"), and the brute-force ray march it is tested against.
+//
+// For each azimuth the field is covered by parallel lines one cell apart along the minor axis.
+// Each line is sampled where it crosses the major axis's grid lines (for an x-major azimuth:
+// at every integer x), the height there interpolated linearly between the two samples of that
+// column: the exact terrain on those grid lines, no pyramid, no filtering. Sweeping a line from
+// its far end towards the receivers while keeping the upper convex hull of the samples already
+// passed gives every sample's horizon exactly, in amortised O(1) per sample. A texel's horizon
+// is then interpolated linearly between the two lines that pass either side of it in its
+// column (less than a cell apart; exact for azimuths along the axes and diagonals, where a line
+// passes through every texel).
+//
+// Cost: about width * height samples per azimuth (plus the lines' ends), each a few compares;
+// memory: one line's hull. Threading: pure function of its inputs; calls for disjoint regions
+// or different outputs may run concurrently.
+#pragma once
+
+#include <glm/vec2.hpp>
+
+#include "penumbra/systems/terrain_shadow/horizon.h"
+
+namespace penumbra::terrain_shadow {
+
+// Environment horizons (limit_to_point must be empty: a distance limit has no hull form) for
+// the texels of `region`, written into `out` (resized to the whole field if its size differs).
+// Lines that do not pass through `region` are skipped.
+void sweep_horizons(const assets::HeightField& field, const HorizonParams& params,
+                    const TexelRect& region, HorizonGrid& out);
+
+// The horizon seen from a plane position `start` (in cells, may be fractional) at height
+// `start_height` (metres, already scaled) along azimuth `phi` (radians), sampling the terrain
+// where the ray crosses the major axis's grid lines, as the sweep does: atan of the largest
+// (height - start_height) / distance over samples at distance > 0 and <= max_distance (metres,
+// in the plane). Samples on the ray's own start column are skipped. No samples in range:
+// -pi/2 (or 0 with clamp_at_zero).
+float ray_horizon(const assets::HeightField& field, float height_scale, glm::vec2 start,
+                  float start_height, float phi, float max_distance, bool clamp_at_zero);
+
+// Brute force, O(width) per texel and azimuth, for tests and as the reference of the other
+// methods; honours limit_to_point.
+//  - kTexelRays: ray_horizon from every texel itself: the exact horizon of the terrain
+//    interpolated along the major grid lines.
+//  - kSweepLines: ray_horizon from the two sweep-line points bracketing each texel, blended
+//    with the sweep's weights: what the sweep computes, without the hull, so the two must agree
+//    to float precision (the test of the hull; kTexelRays measures the line interpolation).
+enum class BruteForceSampling { kTexelRays, kSweepLines };
+void brute_force_horizons(const assets::HeightField& field, const HorizonParams& params,
+                          const TexelRect& region, HorizonGrid& out,
+                          BruteForceSampling sampling = BruteForceSampling::kTexelRays);
+
+// One texel's horizon at azimuth k exactly as the sweep computes it (kSweepLines), without the
+// rest of the field: what an edit recomputes for the few (texel, azimuth) pairs it can change.
+// Inputs are not validated (call validate_horizon_input once).
+float sweep_line_horizon(const assets::HeightField& field, const HorizonParams& params, int x,
+                         int y, int k);
+
+}  // namespace penumbra::terrain_shadow

@@ -1,0 +1,120 @@
+// Log-SH wedges (001_ec851c01d7eb4628.txt sec. 4.1, eq. 18-23).
+//
+// Each slice vector v_k enters two wedges: as the left border of wedge k (rotated to phi_k) and
+// as the right border of wedge k - 1 (rotated to phi_{k-1}). The constructor folds both into one
+// (N*N) x N matrix per azimuth, G_k = R(phi_k) M_L + R(phi_{k-1}) M_R (M_lin = [M_L M_R]), so
+// log_visibility is sum_k G_k v_k: N*N*N multiply-adds per azimuth.
+#include "penumbra/systems/terrain_shadow/log_wedge.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "penumbra/sh/projection.h"
+#include "penumbra/sh/rotation.h"
+#include "penumbra/sh/zh.h"
+
+namespace penumbra::terrain_shadow {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Gauss-Legendre orders: in the polar angle the integrand is a trigonometric polynomial of
+// degree <= 2N, in phi a product of a linear ramp and cos/sin(m phi): 24 and 16 points reach
+// float precision (log_wedge_test.cpp checks M_lin against an independent projection).
+constexpr int kPolarPoints = 24;
+constexpr int kAzimuthPoints = 16;
+
+// Nodes and weights on [-1, 1] (sh::SphereQuadrature's z nodes; its weights include 2 pi).
+void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
+  const sh::SphereQuadrature q = sh::SphereQuadrature::gauss(n, 1);
+  for (int i = 0; i < n; ++i) {
+    x.push_back(q.directions[i].z);
+    w.push_back(q.weights[i] / (2 * kPi));
+  }
+}
+
+}  // namespace
+
+template <int N>
+LogWedge<N>::LogWedge(int azimuths, float log_eps) : azimuths_(azimuths), log_eps_(log_eps) {
+  if (azimuths < 3) {
+    throw std::invalid_argument("LogWedge: " + std::to_string(azimuths) + " azimuths (need >= 3)");
+  }
+  if (!std::isfinite(log_eps) || log_eps >= 0) {
+    throw std::invalid_argument("LogWedge: log_eps " + std::to_string(log_eps) +
+                                " must be finite and < 0");
+  }
+  constexpr int kNN = N * N, kCols = 2 * N;
+  const double dphi = 2 * kPi / azimuths;
+  std::vector<double> tx, tw, px, pw;
+  gauss_legendre(kPolarPoints, tx, tw);
+  gauss_legendre(kAzimuthPoints, px, pw);
+
+  // Eq. 21-23: [M_lin]_ij = integral over the wedge of I_lin,j P^_j(cos theta) y_i, with
+  // I_lin = (1 - alpha) for the left border's N columns and alpha for the right border's.
+  std::vector<double> m(static_cast<std::size_t>(kNN) * kCols, 0.0);
+  float y[kNN];
+  for (std::size_t a = 0; a < px.size(); ++a) {
+    const double alpha = 0.5 * (px[a] + 1), phi = alpha * dphi;
+    for (std::size_t t = 0; t < tx.size(); ++t) {
+      const double theta = 0.5 * kPi * (tx[t] + 1), z = std::cos(theta), s = std::sin(theta);
+      const double weight = 0.5 * dphi * pw[a] * 0.5 * kPi * tw[t] * s;
+      sh::eval_basis<N>(glm::vec3(static_cast<float>(s * std::cos(phi)),
+                                  static_cast<float>(s * std::sin(phi)), static_cast<float>(z)),
+                        y);
+      const std::array<float, N> p = sh::nlp_basis<N>(static_cast<float>(z));
+      for (int i = 0; i < kNN; ++i) {
+        for (int j = 0; j < N; ++j) {
+          const double f = weight * p[j] * y[i];
+          m[static_cast<std::size_t>(i) * kCols + j] += (1 - alpha) * f;
+          m[static_cast<std::size_t>(i) * kCols + N + j] += alpha * f;
+        }
+      }
+    }
+  }
+  m_lin_.assign(m.begin(), m.end());
+
+  // G_k = R(phi_k) M_L + R(phi_{k-1}) M_R, column-major per azimuth.
+  gather_.assign(static_cast<std::size_t>(azimuths) * N * kNN, 0.0f);
+  for (int k = 0; k < azimuths; ++k) {
+    const float phi = static_cast<float>(dphi * k);
+    const float phi_prev = static_cast<float>(dphi * ((k + azimuths - 1) % azimuths));
+    for (int j = 0; j < N; ++j) {
+      sh::Coeffs<N> left, right;
+      for (int i = 0; i < kNN; ++i) {
+        left[i] = m_lin_[static_cast<std::size_t>(i) * kCols + j];
+        right[i] = m_lin_[static_cast<std::size_t>(i) * kCols + N + j];
+      }
+      const sh::Coeffs<N> a = sh::rotate_z<N>(left, phi), b = sh::rotate_z<N>(right, phi_prev);
+      float* col = gather_.data() + (static_cast<std::size_t>(k) * N + j) * kNN;
+      for (int i = 0; i < kNN; ++i) col[i] = a[i] + b[i];
+    }
+  }
+}
+
+template <int N>
+sh::Coeffs<N> LogWedge<N>::log_visibility(const float* angles) const {
+  constexpr int kNN = N * N;
+  float acc[kNN] = {};
+  const float* g = gather_.data();
+  for (int k = 0; k < azimuths_; ++k) {
+    // Eq. 15-16: the slice's NLP vector; sigma is the horizon elevation.
+    const std::array<float, N> v = sh::nlp_log_slice<N>(angles[k], log_eps_);
+    for (int j = 0; j < N; ++j, g += kNN) {
+      for (int i = 0; i < kNN; ++i) acc[i] += g[i] * v[j];
+    }
+  }
+  sh::Coeffs<N> out;
+  for (int i = 0; i < kNN; ++i) out[i] = acc[i];
+  return out;
+}
+
+template class LogWedge<2>;
+template class LogWedge<3>;
+template class LogWedge<4>;
+template class LogWedge<5>;
+template class LogWedge<6>;
+
+}  // namespace penumbra::terrain_shadow

@@ -1,0 +1,144 @@
+#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
+
+#include <algorithm>
+#include <cstring>
+#include <numbers>
+
+#include <tbb/parallel_for.h>
+
+#include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
+#include "penumbra/components/spherical_light.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/sh/rotation.h"
+
+namespace penumbra::terrain_shadow {
+namespace {
+
+using components::EnvironmentLight;
+using components::SphericalLight;
+using components::Terrain;
+using components::TerrainLighting;
+using Entry = TerrainShadowCache::Entry;
+
+Entry& entry_for(TerrainShadowCache& cache, ecs::Entity e) {
+  for (Entry& x : cache.entries)
+    if (x.entity == e) return x;
+  cache.entries.push_back({});
+  cache.entries.back().entity = e;
+  cache.entries.back().shadowing = std::make_unique<TerrainShadowing<kSystemBands>>(cache.config);
+  return cache.entries.back();
+}
+
+void update_visibility(ecs::World& w) {
+  auto& cache = w.resource<TerrainShadowCache>();
+  // Forget terrains that went away.
+  std::erase_if(cache.entries,
+                [&](const Entry& x) { return !w.alive(x.entity) || !w.get<Terrain>(x.entity); });
+  w.query<const Terrain>().each([&](ecs::Entity e, const Terrain& t) {
+    if (!t.heights) return;
+    Entry& x = entry_for(cache, e);
+    if (x.field == t.heights.get() && x.version == t.version &&
+        x.shadowing->height_scale() == t.height_scale)
+      return;
+    const bool one_edit = x.field != nullptr && t.version == x.version + 1;
+    x.last_update =
+        one_edit ? x.shadowing->update_edit(t.heights, t.height_scale,
+                                            {t.edited.x0, t.edited.y0, t.edited.x1, t.edited.y1})
+                 : x.shadowing->update(t.heights, t.height_scale);
+    x.field = t.heights.get();
+    x.version = t.version;
+    ++x.visibility_stamp;
+  });
+}
+
+// FNV-1a over plain values: lights, the terrain's origin and its visibility stamp.
+struct ValueHash {
+  std::uint64_t h = 1469598103934665603ull;
+  template <class T>
+  void add(const T& v) {
+    unsigned char bytes[sizeof(T)];
+    std::memcpy(bytes, &v, sizeof v);
+    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
+  }
+};
+
+void update_lights(ecs::World& w) {
+  auto& cache = w.resource<TerrainShadowCache>();
+  std::vector<SphericalLight> lights;
+  w.query<const SphericalLight>().each([&](const SphericalLight& l) { lights.push_back(l); });
+  for (Entry& x : cache.entries) {
+    const Terrain* t = w.get<Terrain>(x.entity);
+    if (!t || !x.shadowing->ready()) continue;
+    ValueHash hash;
+    for (const SphericalLight& l : lights) hash.add(l);
+    hash.add(t->origin);
+    hash.add(x.visibility_stamp);
+    const std::uint64_t key = hash.h;
+    if (key == x.lights_hash && x.lights_stamp != 0) continue;
+    x.lights_hash = key;
+    x.light_irradiance.assign(x.shadowing->transfer().size(), glm::vec3(0.0f));
+    for (const SphericalLight& l : lights)
+      x.shadowing->add_spherical_light(l.position - t->origin, l.radius, l.radiance,
+                                       x.light_irradiance);
+    ++x.lights_stamp;
+  }
+}
+
+void compose(ecs::World& w) {
+  auto& cache = w.resource<TerrainShadowCache>();
+  const EnvironmentLight* env = w.try_resource<EnvironmentLight>();
+  for (Entry& x : cache.entries) {
+    TerrainLighting* out = w.get_mut<TerrainLighting>(x.entity);
+    if (!out || !x.shadowing->ready()) continue;
+    const std::uint64_t env_version = env ? env->version + 1 : 0;
+    const float rotation = env ? env->rotation_z : 0.0f;
+    if (x.composed_visibility == x.visibility_stamp && x.composed_lights == x.lights_stamp &&
+        x.composed_environment == env_version && x.composed_rotation == rotation)
+      continue;
+    sh::CoeffsRgb<kSystemBands> radiance{};
+    if (env)
+      for (int c = 0; c < 3; ++c)
+        radiance[c] = sh::rotate_z<kSystemBands>(env->radiance[c], rotation);
+    auto rgb = std::make_shared<std::vector<glm::vec3>>();
+    x.shadowing->shade_environment(radiance, *rgb);  // 000 eq. 4.21
+    const bool lit = x.light_irradiance.size() == rgb->size();
+    tbb::parallel_for(std::size_t{0}, rgb->size(), [&](std::size_t i) {
+      glm::vec3 e = (*rgb)[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));  // eq. 4.30
+      (*rgb)[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
+    });
+    out->rgb = std::move(rgb);
+    out->width = x.shadowing->field().width;
+    out->height = x.shadowing->field().height;
+    x.composed_visibility = x.visibility_stamp;
+    x.composed_lights = x.lights_stamp;
+    x.composed_environment = env_version;
+    x.composed_rotation = rotation;
+  }
+}
+
+}  // namespace
+
+void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config) {
+  if (!world.try_resource<TerrainShadowCache>())
+    world.emplace_resource<TerrainShadowCache>().config = config;
+}
+
+void add_terrain_shadow_systems(jobs::Schedule& schedule) {
+  schedule
+      .add_task("terrain_shadow.visibility",
+                [](jobs::SystemContext& ctx) { update_visibility(ctx.world()); })
+      .reads<Terrain>()
+      .writes<TerrainShadowCache>();
+  schedule
+      .add_task("terrain_shadow.lights",
+                [](jobs::SystemContext& ctx) { update_lights(ctx.world()); })
+      .reads<SphericalLight, Terrain>()
+      .writes<TerrainShadowCache>();
+  schedule
+      .add_task("terrain_shadow.compose", [](jobs::SystemContext& ctx) { compose(ctx.world()); })
+      .reads<EnvironmentLight>()
+      .writes<TerrainShadowCache, TerrainLighting>();
+}
+
+}  // namespace penumbra::terrain_shadow

@@ -1,0 +1,164 @@
+// The line sweep against the brute-force ray march: identical where lines pass through texels
+// (azimuths along the axes and diagonals), within the between-line interpolation elsewhere.
+#include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "penumbra/assets/procedural.h"
+
+namespace penumbra::terrain_shadow {
+namespace {
+
+constexpr float kPi = std::numbers::pi_v<float>;
+
+assets::HeightField mountains(int n, std::uint64_t seed = 3) {
+  return assets::procedural_scene("mountains", {n, static_cast<float>(n)}, seed);
+}
+
+float max_abs_difference(const HorizonGrid& a, const HorizonGrid& b) {
+  float m = 0;
+  for (std::size_t i = 0; i < a.angles.size(); ++i)
+    m = std::max(m, std::abs(a.angles[i] - b.angles[i]));
+  return m;
+}
+
+TEST(HorizonSweep, EqualsBruteForceWhereLinesPassThroughTexels) {
+  const auto f = mountains(48);
+  HorizonParams p;
+  p.azimuths = 8;  // 0, 45, 90, ... degrees: every line passes through texel centres
+  for (bool clamp : {true, false}) {
+    p.clamp_at_zero = clamp;
+    HorizonGrid sweep, brute;
+    sweep_horizons(f, p, TexelRect::all(f), sweep);
+    brute_force_horizons(f, p, TexelRect::all(f), brute);
+    EXPECT_LE(max_abs_difference(sweep, brute), 1e-6f) << "clamp " << clamp;
+  }
+}
+
+TEST(HorizonSweep, EqualsBruteForceOnTheSameSamplesForEveryAzimuth) {
+  // The hull finds the steepest sample exactly: brute force over the same line samples agrees
+  // to float precision at 37 azimuths (none along an axis), clamped or not.
+  const auto f = mountains(48, 5);
+  HorizonParams p;
+  p.azimuths = 37;
+  for (bool clamp : {true, false}) {
+    p.clamp_at_zero = clamp;
+    HorizonGrid sweep, brute;
+    sweep_horizons(f, p, TexelRect::all(f), sweep);
+    brute_force_horizons(f, p, TexelRect::all(f), brute, BruteForceSampling::kSweepLines);
+    EXPECT_LE(max_abs_difference(sweep, brute), 2e-6f) << "clamp " << clamp;
+  }
+}
+
+TEST(HorizonSweep, LineInterpolationErrorAgainstEachTexelsOwnRay) {
+  // What the sweep gives up for sharing lines: a texel's horizon is blended from the two lines
+  // less than a cell either side of it. Measured on 48x48 mountains, 32 azimuths: mean 0.0049
+  // rad, max 0.60 rad (a texel beside a sharp crest, where the two lines see different crests).
+  const auto f = mountains(48);
+  HorizonParams p;
+  p.azimuths = 32;
+  HorizonGrid sweep, brute;
+  sweep_horizons(f, p, TexelRect::all(f), sweep);
+  brute_force_horizons(f, p, TexelRect::all(f), brute);
+  double sum = 0;
+  for (std::size_t i = 0; i < sweep.angles.size(); ++i)
+    sum += std::abs(sweep.angles[i] - brute.angles[i]);
+  const double mean = sum / sweep.angles.size();
+  EXPECT_LT(mean, 0.01);
+  EXPECT_GT(mean, 1e-4);  // not secretly the same computation
+  EXPECT_LT(max_abs_difference(sweep, brute), 0.8f);
+}
+
+TEST(HorizonSweep, WallCastsItsExactAngle) {
+  assets::HeightField f;
+  f.width = f.height = 32;
+  f.cell_size = 2;
+  f.heights.assign(32 * 32, 0.0f);
+  for (int y = 0; y < 32; ++y) f.at(20, y) = 10;  // a wall 10 m high at x = 20
+  HorizonParams p;
+  p.azimuths = 4;
+  HorizonGrid g;
+  sweep_horizons(f, p, TexelRect::all(f), g);
+  // From x = 10 looking +x: wall 10 cells = 20 m away, 10 m high.
+  EXPECT_NEAR(g.texel(10, 16)[0], std::atan(10.0f / 20.0f), 1e-6f);
+  EXPECT_NEAR(g.texel(10, 16)[2], 0.0f, 1e-6f);  // looking -x: flat
+  EXPECT_NEAR(g.texel(25, 16)[0], 0.0f, 1e-6f);  // past the wall
+  // Unclamped, the wall top looks down on the flat ground behind it.
+  p.clamp_at_zero = false;
+  sweep_horizons(f, p, TexelRect::all(f), g);
+  EXPECT_NEAR(g.texel(20, 16)[0], std::atan(-10.0f / 22.0f), 1e-6f);  // farthest ground
+  EXPECT_NEAR(g.texel(31, 16)[0], -kPi / 2, 1e-6f);                   // nothing ahead at the border
+  // Height scale multiplies heights.
+  p.clamp_at_zero = true;
+  p.height_scale = 0.5f;
+  sweep_horizons(f, p, TexelRect::all(f), g);
+  EXPECT_NEAR(g.texel(10, 16)[0], std::atan(5.0f / 20.0f), 1e-6f);
+}
+
+TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
+  const auto f = mountains(40);
+  HorizonParams p;
+  p.azimuths = 16;
+  HorizonGrid full, part;
+  sweep_horizons(f, p, TexelRect::all(f), full);
+  const TexelRect r{5, 12, 21, 30};
+  sweep_horizons(f, p, r, part);
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x)
+      for (int k = 0; k < p.azimuths; ++k) {
+        if (r.contains(x, y))
+          ASSERT_EQ(part.texel(x, y)[k], full.texel(x, y)[k]) << x << "," << y << "," << k;
+        else
+          ASSERT_EQ(part.texel(x, y)[k], 0.0f);
+      }
+}
+
+TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {
+  assets::HeightField f;
+  f.width = f.height = 16;
+  f.heights.assign(256, 0.0f);
+  f.at(8, 8) = 1e6f;  // single-texel spike, extreme slope
+  HorizonParams p;
+  p.azimuths = 16;
+  HorizonGrid g;
+  sweep_horizons(f, p, TexelRect::all(f), g);
+  for (float a : g.angles) {
+    ASSERT_TRUE(std::isfinite(a));
+    ASSERT_GE(a, 0.0f);
+    ASSERT_LE(a, kPi / 2);
+  }
+  EXPECT_GT(g.texel(7, 8)[0], 1.5f);  // the spike right next door is almost at the zenith
+}
+
+TEST(HorizonSweep, RejectsADistanceLimit) {
+  const auto f = mountains(8);
+  HorizonParams p;
+  p.limit_to_point = glm::vec2(1, 1);
+  HorizonGrid g;
+  EXPECT_THROW(sweep_horizons(f, p, TexelRect::all(f), g), std::invalid_argument);
+}
+
+TEST(HorizonBruteForce, DistanceLimitIgnoresOccludersBeyondTheLight) {
+  assets::HeightField f;
+  f.width = f.height = 32;
+  f.heights.assign(32 * 32, 0.0f);
+  for (int y = 0; y < 32; ++y) f.at(20, y) = 10;
+  HorizonParams p;
+  p.azimuths = 4;
+  p.clamp_at_zero = false;
+  p.limit_to_point = glm::vec2(15, 16);  // light 5 m from texel (10, 16), before the wall
+  HorizonGrid g;
+  brute_force_horizons(f, p, {10, 16, 11, 17}, g);
+  EXPECT_NEAR(g.texel(10, 16)[0], 0.0f, 1e-6f);  // flat ground up to the light
+  p.limit_to_point = glm::vec2(25, 16);          // light behind the wall
+  brute_force_horizons(f, p, {10, 16, 11, 17}, g);
+  EXPECT_NEAR(g.texel(10, 16)[0], std::atan(10.0f / 10.0f), 1e-6f);
+}
+
+}  // namespace
+}  // namespace penumbra::terrain_shadow

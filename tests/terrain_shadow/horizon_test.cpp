@@ -1,0 +1,67 @@
+// validate_horizon_input: every horizon method's bad-input errors name the field and the reason.
+#include "penumbra/systems/terrain_shadow/horizon.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace penumbra::terrain_shadow {
+namespace {
+
+assets::HeightField flat(int w, int h) {
+  assets::HeightField f;
+  f.width = w;
+  f.height = h;
+  f.cell_size = 1;
+  f.heights.assign(static_cast<std::size_t>(w) * h, 0.0f);
+  f.source = "test.pgm";
+  return f;
+}
+
+std::string error_of(const assets::HeightField& f, const HorizonParams& p, const TexelRect& r) {
+  try {
+    validate_horizon_input(f, p, r);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return {};
+}
+
+TEST(HorizonInput, AcceptsAValidField) {
+  const auto f = flat(4, 3);
+  EXPECT_EQ(error_of(f, {}, TexelRect::all(f)), "");
+  EXPECT_EQ(TexelRect::all(f).count(), 12u);
+}
+
+TEST(HorizonInput, RejectsNonFiniteHeightsNamingTheSample) {
+  auto f = flat(4, 4);
+  f.at(2, 3) = std::numeric_limits<float>::quiet_NaN();
+  const std::string e = error_of(f, {}, TexelRect::all(f));
+  EXPECT_NE(e.find("test.pgm"), std::string::npos) << e;
+  EXPECT_NE(e.find("(2, 3)"), std::string::npos) << e;
+  f.at(2, 3) = std::numeric_limits<float>::infinity();
+  EXPECT_NE(error_of(f, {}, TexelRect::all(f)).find("not finite"), std::string::npos);
+}
+
+TEST(HorizonInput, RejectsBadShapesAndParameters) {
+  EXPECT_NE(error_of(flat(1, 5), {}, {0, 0, 1, 5}).find("2 x 2"), std::string::npos);
+  auto f = flat(4, 4);
+  f.cell_size = 0;
+  EXPECT_NE(error_of(f, {}, TexelRect::all(f)).find("cell size"), std::string::npos);
+  f.cell_size = 1;
+  HorizonParams p;
+  p.azimuths = 2;
+  EXPECT_NE(error_of(f, p, TexelRect::all(f)).find("azimuths"), std::string::npos);
+  p = {};
+  p.height_scale = std::numeric_limits<float>::infinity();
+  EXPECT_NE(error_of(f, p, TexelRect::all(f)).find("height scale"), std::string::npos);
+  EXPECT_NE(error_of(f, {}, {0, 0, 5, 4}).find("outside"), std::string::npos);
+  f.heights.pop_back();
+  EXPECT_NE(error_of(f, {}, TexelRect::all(f)).find("heights for"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace penumbra::terrain_shadow
