@@ -11,6 +11,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "fast_atan.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow {
@@ -25,7 +26,7 @@ float azimuth(int k, int n) {
 
 float to_angle(float slope, bool any, bool clamp) {
   if (!any) return clamp ? 0.0f : -kHalfPi;
-  const float a = std::atan(slope);
+  const float a = detail::fast_atan(slope);
   return clamp ? std::max(a, 0.0f) : a;
 }
 
@@ -34,18 +35,28 @@ struct HullPoint {
   float h;
 };
 
+// Per-task buffers, reused across azimuths and lines.
+struct Scratch {
+  std::vector<float> acc, weight;  // region-sized, (minor, major) layout
+  std::vector<HullPoint> hull;
+  // One line's receivers in the region: major coordinate, lower texel, offset, slope (-inf:
+  // nothing ahead) then angle.
+  std::vector<int> u, bi;
+  std::vector<float> t, value;
+};
+
 // One azimuth over the region: sweep every line that passes through it, scatter the line
-// samples' horizons onto the texels between lines (weights by minor distance), write plane k.
+// samples' horizons onto the texels between lines (weights by minor distance) and write them
+// to `plane` (region-sized, row-major in x, y).
 void sweep_azimuth(const assets::HeightField& f, const HorizonParams& p, const TexelRect& r, int k,
-                   std::vector<float>& acc, std::vector<float>& weight,
-                   std::vector<HullPoint>& hull, HorizonGrid& out) {
+                   Scratch& sc, float* plane) {
   const detail::AzimuthFrame frame(f, azimuth(k, p.azimuths));
   // Region in (major, minor) coordinates, half-open.
   const int u0 = frame.x_major ? r.x0 : r.y0, u1 = frame.x_major ? r.x1 : r.y1;
   const int v0 = frame.x_major ? r.y0 : r.x0, v1 = frame.x_major ? r.y1 : r.x1;
   const int rw = u1 - u0;
-  acc.assign(r.count(), 0.0f);
-  weight.assign(r.count(), 0.0f);
+  sc.acc.assign(r.count(), 0.0f);
+  sc.weight.assign(r.count(), 0.0f);
 
   // Lines b = c + slope * u with integer c bracketing every texel of the region.
   const double lo = std::min(v0 - frame.slope * u0, v0 - frame.slope * (u1 - 1));
@@ -55,50 +66,86 @@ void sweep_azimuth(const assets::HeightField& f, const HorizonParams& p, const T
   // to the near edge of the region.
   const int u_far = frame.step > 0 ? frame.major_size - 1 : 0;
   const int u_near = frame.step > 0 ? u0 : u1 - 1;
+  const double bmax = frame.minor_size - 1;
+  const float mps = frame.metres_per_step;
 
   for (int c = c_lo; c <= c_hi; ++c) {
-    hull.clear();
-    for (int u = u_far;; u -= frame.step) {
+    // Columns where the line is inside the field (b = c + slope * u in [0, bmax]), clipped to
+    // the swept span, widened by one and re-checked exactly by height_at below.
+    int ua = 0, ub = frame.major_size - 1;
+    if (frame.slope != 0) {
+      const double e0 = -c / frame.slope, e1 = (bmax - c) / frame.slope;
+      ua = std::max(ua, static_cast<int>(std::floor(std::min(e0, e1))) - 1);
+      ub = std::min(ub, static_cast<int>(std::ceil(std::max(e0, e1))) + 1);
+    } else if (c < 0 || c > bmax) {
+      continue;
+    }
+    if (frame.step > 0)
+      ub = std::min(ub, u_far), ua = std::max(ua, u_near);
+    else
+      ua = std::max(ua, u_far), ub = std::min(ub, u_near);
+    if (ua > ub) continue;
+
+    // Pass 1, sequential: the hull (Timonen 2010, sec. 4) gives each sample's steepest slope.
+    // Fixed-size arrays indexed directly: this loop runs for every sample of every azimuth.
+    const std::size_t cap = static_cast<std::size_t>(frame.major_size);
+    if (sc.hull.size() < cap) {
+      sc.hull.resize(cap), sc.u.resize(cap), sc.bi.resize(cap), sc.t.resize(cap);
+      sc.value.resize(cap);
+    }
+    HullPoint* hull = sc.hull.data();
+    std::size_t top = 0, n = 0;  // hull size, receivers recorded
+    const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
+    for (int u = u_start;; u -= frame.step) {
       double b;
       float h;
-      const bool inside = frame.height_at(f, p.height_scale, c, u, b, h);
-      if (inside) {
+      if (frame.height_at(f, p.height_scale, c, u, b, h)) {
         const int j = frame.step * u;
-        // Pop hull points that are not the tangent from this sample (Timonen 2010, sec. 4).
-        while (hull.size() >= 2 &&
-               detail::slope_between(j, h, hull[hull.size() - 2].j, hull[hull.size() - 2].h,
-                                     frame.metres_per_step) >=
-                   detail::slope_between(j, h, hull.back().j, hull.back().h, frame.metres_per_step))
-          hull.pop_back();
+        // Pop the top while the second is at least as steep (compared without dividing).
+        while (top >= 2 && (hull[top - 2].h - h) * static_cast<float>(hull[top - 1].j - j) >=
+                               (hull[top - 1].h - h) * static_cast<float>(hull[top - 2].j - j))
+          --top;
         if (u >= u0 && u < u1) {
-          const float s = hull.empty() ? 0.0f
-                                       : detail::slope_between(j, h, hull.back().j, hull.back().h,
-                                                               frame.metres_per_step);
-          const float angle = to_angle(s, !hull.empty(), p.clamp_at_zero);
           const int bi = static_cast<int>(b);
-          const float t = static_cast<float>(b - bi);
-          // The line lies t above texel bi and 1 - t below texel bi + 1.
-          auto add = [&](int v, float w) {
-            if (v < v0 || v >= v1 || w <= 0) return;
-            const std::size_t i = static_cast<std::size_t>(v - v0) * rw + (u - u0);
-            acc[i] += w * angle;
-            weight[i] += w;
-          };
-          add(bi, 1.0f - t);
-          add(bi + 1, t);
+          sc.u[n] = u;
+          sc.bi[n] = bi;
+          sc.t[n] = static_cast<float>(b - bi);
+          sc.value[n] = top > 0 ? detail::slope_between(j, h, hull[top - 1].j, hull[top - 1].h, mps)
+                                : -std::numeric_limits<float>::infinity();  // atan: -pi/2
+          ++n;
         }
-        hull.push_back({j, h});
+        hull[top++] = {j, h};
       }
-      if (u == u_near) break;
+      if (u == u_end) break;
+    }
+    // Pass 2, vectorisable: slopes to angles.
+    detail::fast_atan_array(sc.value.data(), n);
+    if (p.clamp_at_zero)
+      for (std::size_t i = 0; i < n; ++i) sc.value[i] = std::max(sc.value[i], 0.0f);
+    // Pass 3: the line lies t above texel bi and 1 - t below texel bi + 1.
+    for (std::size_t i = 0; i < n; ++i) {
+      const int bi = sc.bi[i], u = sc.u[i];
+      const float t = sc.t[i], angle = sc.value[i];
+      if (bi >= v0 && bi < v1 && t < 1.0f) {
+        const std::size_t q = static_cast<std::size_t>(bi - v0) * rw + (u - u0);
+        sc.acc[q] += (1.0f - t) * angle;
+        sc.weight[q] += 1.0f - t;
+      }
+      if (bi + 1 >= v0 && bi + 1 < v1 && t > 0.0f) {
+        const std::size_t q = static_cast<std::size_t>(bi + 1 - v0) * rw + (u - u0);
+        sc.acc[q] += t * angle;
+        sc.weight[q] += t;
+      }
     }
   }
 
+  const int w = r.width();
   for (int v = v0; v < v1; ++v)
     for (int u = u0; u < u1; ++u) {
       const std::size_t i = static_cast<std::size_t>(v - v0) * rw + (u - u0);
-      const float a = weight[i] > 0 ? acc[i] / weight[i] : 0.0f;
       const int x = frame.x_major ? u : v, y = frame.x_major ? v : u;
-      out.texel(x, y)[k] = a;
+      plane[static_cast<std::size_t>(y - r.y0) * w + (x - r.x0)] =
+          sc.weight[i] > 0 ? sc.acc[i] / sc.weight[i] : 0.0f;
     }
 }
 
@@ -117,15 +164,24 @@ void sweep_horizons(const assets::HeightField& field, const HorizonParams& param
         field.source + ": the line sweep has no distance limit (use march or brute force)");
   prepare_output(field, params, out);
   if (region.empty()) return;
-  // Parallel over azimuths in blocks, so that threads write disjoint parts of each texel's
-  // record (n_phi / 2 consecutive floats per thread with two threads).
-  tbb::parallel_for(tbb::blocked_range<int>(0, params.azimuths, 4),
-                    [&](const tbb::blocked_range<int>& ks) {
-                      std::vector<float> acc, weight;
-                      std::vector<HullPoint> hull;
-                      for (int k = ks.begin(); k != ks.end(); ++k)
-                        sweep_azimuth(field, params, region, k, acc, weight, hull, out);
-                    });
+  // Parallel over blocks of azimuths: each task sweeps its azimuths into planes, then writes
+  // them into the texels' records together (a contiguous run per texel, not one strided float
+  // per azimuth, which would touch every record's cache line once per azimuth).
+  constexpr int kBlock = 8;
+  const int blocks = (params.azimuths + kBlock - 1) / kBlock;
+  tbb::parallel_for(0, blocks, [&](int block) {
+    const int k0 = block * kBlock, k1 = std::min(k0 + kBlock, params.azimuths);
+    Scratch sc;
+    std::vector<float> planes(static_cast<std::size_t>(k1 - k0) * region.count());
+    for (int k = k0; k < k1; ++k)
+      sweep_azimuth(field, params, region, k, sc, planes.data() + (k - k0) * region.count());
+    std::size_t i = 0;
+    for (int y = region.y0; y < region.y1; ++y)
+      for (int x = region.x0; x < region.x1; ++x, ++i) {
+        float* dst = out.texel(x, y) + k0;
+        for (int k = k0; k < k1; ++k) dst[k - k0] = planes[(k - k0) * region.count() + i];
+      }
+  });
 }
 
 namespace {
