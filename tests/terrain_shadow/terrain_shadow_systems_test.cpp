@@ -1,0 +1,121 @@
+// The terrain shadow systems in the job graph: what each frame recomputes, and what it skips.
+#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "penumbra/assets/procedural.h"
+#include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
+#include "penumbra/components/spherical_light.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/jobs/executor.h"
+#include "penumbra/systems/terrain_shadow/terrain_edit.h"
+
+namespace penumbra::terrain_shadow {
+namespace {
+
+using components::EnvironmentLight;
+using components::SphericalLight;
+using components::Terrain;
+using components::TerrainLighting;
+
+struct Fixture {
+  ecs::World world;
+  jobs::Schedule schedule;
+  jobs::Executor executor{2};
+  ecs::Entity terrain, light;
+
+  Fixture() {
+    TerrainShadowConfig config;
+    config.azimuths = 8;
+    config.light_azimuths = 8;
+    emplace_terrain_shadow_resources(world, config);
+    auto field = std::make_shared<assets::HeightField>(
+        assets::procedural_scene("mountains", {32, 64.0f}, 2));
+    terrain = world.create_with(Terrain{field, {-32.0f, -32.0f, 0.0f}}, TerrainLighting{});
+    light = world.create_with(SphericalLight{{0.0f, 0.0f, 60.0f}, 4.0f, glm::vec3(5.0f)});
+    auto& env = world.emplace_resource<EnvironmentLight>();
+    env.radiance[0][1] = env.radiance[1][1] = env.radiance[2][1] = 1.0f;  // a y-lobe: not zonal
+    env.radiance[0][0] = env.radiance[1][0] = env.radiance[2][0] = 3.0f;
+    env.version = 1;
+    add_terrain_shadow_systems(schedule);
+  }
+  void frame() { executor.run(schedule, world); }
+  const TerrainShadowCache::Entry& entry() {
+    return world.resource<TerrainShadowCache>().entries.at(0);
+  }
+  const TerrainLighting& lighting() { return *world.get<TerrainLighting>(terrain); }
+};
+
+TEST(TerrainShadowSystems, SkipWhatDidNotChange) {
+  Fixture f;
+  f.frame();
+  ASSERT_TRUE(f.lighting().rgb);
+  EXPECT_EQ(f.lighting().width, 32);
+  EXPECT_TRUE(f.entry().last_update.full);
+  const auto first = f.lighting().rgb;
+  const auto visibility = f.entry().visibility_stamp, lights = f.entry().lights_stamp;
+  f.frame();  // nothing changed: nothing recomputed, the same array stays published
+  EXPECT_EQ(f.lighting().rgb, first);
+  EXPECT_EQ(f.entry().visibility_stamp, visibility);
+  EXPECT_EQ(f.entry().lights_stamp, lights);
+}
+
+TEST(TerrainShadowSystems, MovingLightReshadesWithoutEnvironmentVisibility) {
+  Fixture f;
+  f.frame();
+  const auto visibility = f.entry().visibility_stamp, lights = f.entry().lights_stamp;
+  const auto before = f.lighting().rgb;
+  f.world.get_mut<SphericalLight>(f.light)->position.x += 10.0f;
+  f.frame();
+  EXPECT_EQ(f.entry().visibility_stamp, visibility);
+  EXPECT_EQ(f.entry().lights_stamp, lights + 1);
+  EXPECT_NE(f.lighting().rgb, before);
+  EXPECT_NE(*f.lighting().rgb, *before);
+}
+
+TEST(TerrainShadowSystems, RotatingEnvironmentReshadesFromStoredTransfer) {
+  Fixture f;
+  f.frame();
+  const auto visibility = f.entry().visibility_stamp, lights = f.entry().lights_stamp;
+  const auto before = f.lighting().rgb;
+  f.world.resource<EnvironmentLight>().rotation_z = std::numbers::pi_v<float> / 2;
+  f.frame();
+  EXPECT_EQ(f.entry().visibility_stamp, visibility);
+  EXPECT_EQ(f.entry().lights_stamp, lights);
+  ASSERT_NE(f.lighting().rgb, before);
+  double diff = 0;
+  for (std::size_t i = 0; i < before->size(); ++i)
+    diff += std::abs((*before)[i].x - (*f.lighting().rgb)[i].x);
+  EXPECT_GT(diff, 0.0);
+}
+
+TEST(TerrainShadowSystems, BrushEditUpdatesIncrementally) {
+  Fixture f;
+  f.frame();
+  Terrain& t = *f.world.get_mut<Terrain>(f.terrain);
+  ASSERT_TRUE(apply_brush(t, {BrushKind::kCrater, {0.0f, 0.0f}, 6.0f, 8.0f}));
+  f.frame();
+  EXPECT_FALSE(f.entry().last_update.full);
+  EXPECT_LT(f.entry().last_update.horizon_pairs, 32u * 32u * 8u);
+  EXPECT_EQ(f.entry().version, 1u);
+  // Two edits between frames: the system cannot know the first rectangle: full update.
+  apply_brush(t, {BrushKind::kRaise, {5.0f, 5.0f}, 4.0f, 3.0f});
+  apply_brush(t, {BrushKind::kRaise, {-9.0f, 5.0f}, 4.0f, 3.0f});
+  f.frame();
+  EXPECT_TRUE(f.entry().last_update.full);
+}
+
+TEST(TerrainShadowSystems, DestroyedTerrainIsForgotten) {
+  Fixture f;
+  f.frame();
+  f.world.destroy(f.terrain);
+  f.frame();
+  EXPECT_TRUE(f.world.resource<TerrainShadowCache>().entries.empty());
+}
+
+}  // namespace
+}  // namespace penumbra::terrain_shadow
