@@ -59,6 +59,24 @@ TEST(RenderExtract, BuildsThePacketFromComponentsSharingArrays) {
   EXPECT_EQ(w.resource<render::RenderPacket>().meshes.size(), 1u) << "rebuilt every frame";
 }
 
+TEST(RenderExtract, ScalesTerrainHeightsOncePerChange) {
+  ecs::World w;
+  emplace_render_resources(w);
+  auto heights = render::test::make_hills(8, 1.0f);
+  const ecs::Entity e = w.create_with(Terrain{heights, {0, 0, 0}, glm::vec3(0.5f), 2.5f});
+  ScaledHeightsCache cache;
+  render::RenderPacket p;
+  extract_render_packet(w, p, &cache);
+  ASSERT_NE(p.terrain.heights.get(), heights.get());
+  EXPECT_FLOAT_EQ(p.terrain.heights->at(3, 4), 2.5f * heights->at(3, 4));
+  const auto first = p.terrain.heights;
+  extract_render_packet(w, p, &cache);
+  EXPECT_EQ(p.terrain.heights, first) << "cached while heights and scale are unchanged";
+  w.get_mut<Terrain>(e)->height_scale = 1.0f;
+  extract_render_packet(w, p, &cache);
+  EXPECT_EQ(p.terrain.heights.get(), heights.get()) << "scale 1 shares the heights";
+}
+
 TEST(RenderExtract, OrdersAfterWritersOfItsInputs) {
   jobs::Schedule s;
   s.add_each<Transform>("move", [](Transform& t) { t.world[3][0] += 1; });

@@ -13,8 +13,8 @@ using components::BaseColor;
 using components::Camera;
 using components::DebugSphere;
 using components::MeshInstance;
-using components::TerrainLighting;
 using components::Terrain;
+using components::TerrainLighting;
 using components::Transform;
 using components::VertexLighting;
 
@@ -29,7 +29,20 @@ void emplace_render_resources(ecs::World& world) {
   if (world.try_resource<RenderSettings>() == nullptr) world.emplace_resource<RenderSettings>();
 }
 
-void extract_render_packet(ecs::World& world, render::RenderPacket& packet) {
+namespace {
+std::shared_ptr<const assets::HeightField> scaled_heights(const Terrain& t,
+                                                          ScaledHeightsCache* cache) {
+  if (t.height_scale == 1.0f || !t.heights) return t.heights;
+  if (cache && cache->source == t.heights && cache->scale == t.height_scale) return cache->scaled;
+  auto f = std::make_shared<assets::HeightField>(*t.heights);
+  for (float& h : f->heights) h *= t.height_scale;
+  if (cache) *cache = {t.heights, t.height_scale, f};
+  return f;
+}
+}  // namespace
+
+void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
+                           ScaledHeightsCache* cache) {
   packet.clear_lists();
   const Camera* camera = world.try_resource<Camera>();
   packet.camera = to_render(camera ? *camera : Camera{});
@@ -43,7 +56,7 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet) {
   world.query<const Terrain>().each([&](ecs::Entity e, const Terrain& t) {
     if (have_terrain) return;
     have_terrain = true;
-    packet.terrain.heights = t.heights;
+    packet.terrain.heights = scaled_heights(t, cache);
     packet.terrain.origin = t.origin;
     packet.terrain.albedo = t.albedo;
     if (const TerrainLighting* l = world.get<TerrainLighting>(e)) {
@@ -73,12 +86,12 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet) {
 jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
   return schedule
       .add_task("render_extract",
-                [](jobs::SystemContext& ctx) {
+                [cache = std::make_shared<ScaledHeightsCache>()](jobs::SystemContext& ctx) {
                   ecs::World& w = ctx.world();
-                  extract_render_packet(w, w.resource<render::RenderPacket>());
+                  extract_render_packet(w, w.resource<render::RenderPacket>(), cache.get());
                 })
-      .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance,
-             BaseColor, VertexLighting, DebugSphere>()
+      .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance, BaseColor,
+             VertexLighting, DebugSphere>()
       .writes<render::RenderPacket>();
 }
 

@@ -2,7 +2,8 @@
 // rebuilds the render::RenderPacket resource from
 //   Camera (resource; defaults when absent)          -> packet.camera
 //   RenderSettings (resource; defaults when absent)  -> packet.sky, packet.view
-//   Terrain [+ TerrainLighting]                -> packet.terrain (the first such entity)
+//   Terrain [+ TerrainLighting]                       -> packet.terrain (the first such entity;
+//                                                       heights x height_scale)
 //   Transform + MeshInstance [+ BaseColor, VertexLighting] -> packet.meshes
 //   DebugSphere                                       -> packet.spheres
 // Large arrays are shared by pointer (no copies); the packet's lists keep their capacity from
@@ -16,6 +17,9 @@
 // Threading: a task system (one thread); it only reads components.
 #pragma once
 
+#include <memory>
+
+#include "penumbra/assets/height_field.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/render/packet.h"
@@ -35,7 +39,17 @@ void emplace_render_resources(ecs::World& world);
 // Registers the "render_extract" task system (reads and writes declared).
 jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule);
 
-// What the system does, callable directly (tests, tools).
-void extract_render_packet(ecs::World& world, render::RenderPacket& packet);
+// A terrain's heights multiplied by its height_scale for the renderer (which draws heights as
+// they are), remade only when the heights or the scale change. The system keeps one.
+struct ScaledHeightsCache {
+  std::shared_ptr<const assets::HeightField> source;
+  float scale = 1.0f;
+  std::shared_ptr<const assets::HeightField> scaled;
+};
+
+// What the system does, callable directly (tests, tools). Without a cache a scaled terrain is
+// copied on every call.
+void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
+                           ScaledHeightsCache* cache = nullptr);
 
 }  // namespace penumbra::systems
