@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "penumbra/sh/projection.h"
@@ -91,7 +92,7 @@ TEST(WedgeExact, ConstantHorizonSumsToTheCap) {
         for (int k = 0; k < n; ++k) sum = add<4>(sum, sh::rotate_z<4>(wedge, dphi * k));
         const float top = domain == WedgeDomain::kHemisphere ? std::max(w, 0.0f) : w;
         const auto cap = sh::zonal_to_sh<4>(sh::zh_cap<4>(kPi / 2 - top));
-        EXPECT_LT(max_abs_diff<4>(sum, cap), 2e-6f) << "n " << n << " w " << w;
+        EXPECT_LT(max_abs_diff<4>(sum, cap), 5e-6f) << "n " << n << " w " << w;
       }
     }
   }
@@ -104,23 +105,24 @@ TEST(WedgeExact, IsAdditiveUnderSplitting) {
     for (auto [wl, wr] : {std::pair{0.1f, 0.9f}, std::pair{-0.6f, 0.5f}, std::pair{1.2f, -1.0f}}) {
       const float dphi = 2 * kPi / 6, wm = 0.5f * (wl + wr);
       const auto whole = wedge_exact<4>(wl, wr, dphi, domain);
-      const auto halves = add<4>(wedge_exact<4>(wl, wm, dphi / 2, domain),
-                                 sh::rotate_z<4>(wedge_exact<4>(wm, wr, dphi / 2, domain), dphi / 2));
-      EXPECT_LT(max_abs_diff<4>(whole, halves), 2e-6f) << wl << " " << wr;
+      const auto halves =
+          add<4>(wedge_exact<4>(wl, wm, dphi / 2, domain),
+                 sh::rotate_z<4>(wedge_exact<4>(wm, wr, dphi / 2, domain), dphi / 2));
+      EXPECT_LT(max_abs_diff<4>(whole, halves), 1e-6f) << wl << " " << wr;
     }
   }
 }
 
 TEST(WedgeExact, MatchesBruteForceProjection) {
   // Sloped wedges, one crossing 0 on the hemisphere (the max(w, 0) kink), against a direct
-  // projection of the indicator; the brute force is off by about 1e-4 at the step edges.
+  // projection of the indicator (measured 2e-5: the brute force's own error at the edges).
   struct Case {
     float wl, wr;
     WedgeDomain domain;
   };
-  for (const Case& c : {Case{0.1f, 0.9f, WedgeDomain::kHemisphere},
-                        Case{-0.4f, 0.5f, WedgeDomain::kHemisphere},
-                        Case{-1.1f, 0.3f, WedgeDomain::kSphere}}) {
+  for (const Case& c :
+       {Case{0.1f, 0.9f, WedgeDomain::kHemisphere}, Case{-0.4f, 0.5f, WedgeDomain::kHemisphere},
+        Case{-1.1f, 0.3f, WedgeDomain::kSphere}}) {
     const int n = 8;
     const float dphi = 2 * kPi / n, floor = c.domain == WedgeDomain::kHemisphere ? 0 : -kPi / 2;
     std::vector<float> a(n, kPi / 2);  // only wedge 0 is open
@@ -133,7 +135,7 @@ TEST(WedgeExact, MatchesBruteForceProjection) {
           return phi < dphi ? brute_visible(d, a, floor) : 0.0f;
         },
         brute_quadrature());
-    EXPECT_LT(max_abs_diff<4>(wedge_exact<4>(c.wl, c.wr, dphi, c.domain), brute), 5e-4f)
+    EXPECT_LT(max_abs_diff<4>(wedge_exact<4>(c.wl, c.wr, dphi, c.domain), brute), 1e-4f)
         << c.wl << " " << c.wr;
   }
 }
@@ -153,8 +155,8 @@ TEST(WedgeTable, RejectsBadArguments) {
 
 TEST(WedgeTable, EntriesMatchExactAtAndBetweenNodes) {
   // At nodes the table is wedge_exact (1e-6). Between nodes bilinear interpolation is off by
-  // at most 1.2e-4 on the hemisphere and 5e-4 on the sphere (64 x 64, 32 azimuths; measured
-  // 0.8e-4 and 3.3e-4 at cell centres, the worst place).
+  // at most 3e-5 on the hemisphere and 1.2e-4 on the sphere (64 x 64, 32 azimuths; measured
+  // 1.5e-5 and 6.0e-5 at cell centres, the worst place, over all cells).
   for (const WedgeTable<4>* t : {&hemisphere32(), &sphere32()}) {
     const bool hemi = t->domain() == WedgeDomain::kHemisphere;
     const float lo = hemi ? 0 : -kPi / 2, step = (kPi / 2 - lo) / (t->resolution() - 1);
@@ -163,17 +165,17 @@ TEST(WedgeTable, EntriesMatchExactAtAndBetweenNodes) {
     for (int a = 0; a < t->resolution(); a += 3) {
       for (int b = 0; b < t->resolution(); b += 5) {
         const float wl = lo + a * step, wr = lo + b * step;
-        at_nodes = std::max(at_nodes, max_abs_diff<4>(t->wedge(wl, wr),
-                                                      wedge_exact<4>(wl, wr, dphi, t->domain())));
+        at_nodes = std::max(
+            at_nodes, max_abs_diff<4>(t->wedge(wl, wr), wedge_exact<4>(wl, wr, dphi, t->domain())));
         if (a + 1 < t->resolution() && b + 1 < t->resolution()) {
           const float ml = wl + step / 2, mr = wr + step / 2;
           between = std::max(between, max_abs_diff<4>(t->wedge(ml, mr),
-                                                       wedge_exact<4>(ml, mr, dphi, t->domain())));
+                                                      wedge_exact<4>(ml, mr, dphi, t->domain())));
         }
       }
     }
     EXPECT_LT(at_nodes, 1e-6f);
-    EXPECT_LT(between, hemi ? 1.2e-4f : 5e-4f);
+    EXPECT_LT(between, hemi ? 3e-5f : 1.2e-4f);
     RecordProperty(hemi ? "hemisphere_between_nodes" : "sphere_between_nodes",
                    std::to_string(between));
   }
@@ -202,6 +204,7 @@ TEST(WedgeTable, VisibilityIsTheSumOfRotatedWedges) {
   check(WedgeTable<3>(7, WedgeDomain::kHemisphere, 8));
   check(WedgeTable<5>(16, WedgeDomain::kSphere, 8));
   check(WedgeTable<6>(9, WedgeDomain::kHemisphere, 8));
+  check(WedgeTable<4>(70, WedgeDomain::kSphere, 8));  // two chunks of angles, scalar tail
 }
 
 TEST(WedgeTable, OpenAndClosedHorizons) {
@@ -223,13 +226,16 @@ TEST(WedgeTable, OpenAndClosedHorizons) {
 
 TEST(WedgeTable, ConstantHorizonIsACap) {
   // Exact but for the table's interpolation (w is chosen off the nodes): a cap of half-angle
-  // pi/2 - w about +z; 32 wedges add up their interpolation errors in the m = 0 terms.
+  // pi/2 - w about +z; 32 wedges add up their interpolation errors in the m = 0 terms
+  // (measured up to 3.6e-4 on the hemisphere, 1.2e-3 on the sphere).
   for (const WedgeTable<4>* t : {&hemisphere32(), &sphere32()}) {
     for (float w : {0.013f, 0.37f, 0.81f, 1.234f}) {
       const float ws = t->domain() == WedgeDomain::kSphere ? w - 0.9f : w;
       const std::vector<float> a(32, ws);
       const auto cap = sh::zonal_to_sh<4>(sh::zh_cap<4>(kPi / 2 - ws));
-      EXPECT_LT(max_abs_diff<4>(t->visibility(a.data()), cap), 2e-3f) << ws;
+      EXPECT_LT(max_abs_diff<4>(t->visibility(a.data()), cap),
+                t->domain() == WedgeDomain::kSphere ? 2e-3f : 6e-4f)
+          << ws;
     }
   }
 }
@@ -248,15 +254,16 @@ TEST(WedgeTable, ShiftingByOneAzimuthRotatesAboutZ) {
 
 TEST(WedgeTable, MatchesBruteForceOfAPiecewiseLinearHorizon) {
   // Whole pipeline against the projected indicator of the interpolated horizon (eq. 4.15,
-  // 4.17): table interpolation summed over 32 wedges plus the brute force's own ~1e-4.
+  // 4.17): table interpolation summed over 32 wedges plus the brute force's own error
+  // (measured 6.6e-4 and 4.4e-4).
   std::mt19937 rng(3);
   for (const WedgeTable<4>* t : {&hemisphere32(), &sphere32()}) {
     const bool hemi = t->domain() == WedgeDomain::kHemisphere;
     const auto a = random_horizon(rng, 32, hemi ? 0.0f : -1.2f, 1.0f);
-    const auto brute = sh::project<4>(
-        [&](const glm::vec3& d) { return brute_visible(d, a, hemi ? 0 : -kPi / 2); },
-        brute_quadrature());
-    EXPECT_LT(max_abs_diff<4>(t->visibility(a.data()), brute), 2e-3f);
+    const auto brute =
+        sh::project<4>([&](const glm::vec3& d) { return brute_visible(d, a, hemi ? 0 : -kPi / 2); },
+                       brute_quadrature());
+    EXPECT_LT(max_abs_diff<4>(t->visibility(a.data()), brute), 1.5e-3f);
   }
 }
 

@@ -1,9 +1,9 @@
 // Wedge tables: SH projections of one visibility wedge, tabulated over its two border angles,
 // and the per-texel sum of rotated wedges (000_7ffde676d1c99e20.txt eq. 4.15-4.19, 4.26).
 //
-// Table layout: node (a, b) (w_left = node a, w_right = node b) is the N*N vector at
-// (a * resolution + b) * S (S: N*N padded to whole 8-lane vectors), so one bilinear lookup reads
-// two runs of 2 S contiguous floats.
+// Table layout: node (a, b) (w_left = node a, w_right = node b) is the N*N vector in 8-lane
+// blocks from block a * row + b * B (B = ceil(N*N / 8), row = resolution * B + a cache line), so
+// one bilinear lookup reads two runs of 2 B contiguous blocks.
 // visibility() never forms a rotated wedge: with A_k = cos(m phi_k) and B_k = +-sin(m phi_k)
 // per coefficient, rotate_z(w, phi_k)_i = A_k,i w_i + B_k,p(i) w_p(i), where p swaps (l, m) and
 // (l, -m); it accumulates U = sum A_k w_k and T = sum B'_k w_k (B'_k,i = B_k,p(i)) elementwise
@@ -98,26 +98,61 @@ constexpr int blocks() {
 }
 
 template <class Block>
-inline Lanes load(const Block& b) {
+inline Lanes load_block(const Block& b) {
   static_assert(sizeof(Block) == sizeof(Lanes));
   Lanes v;
   std::memcpy(&v, b.f, sizeof v);
   return v;
 }
+inline Lanes load(const float* p) {
+  Lanes v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void store(float* p, Lanes v) {
+  std::memcpy(p, &v, sizeof v);
+}
 
-// Table coordinate of an angle: lower node and fraction, clamped to the table (NaN reads as
-// the lowest node).
+// Table coordinate of an angle: lower node in [0, resolution - 2] and fraction in [0, 1],
+// clamped to the table; NaN reads as the lowest node.
 struct Lookup {
   std::size_t index;
   float frac;
 };
+struct Coords {
+  using IntLanes = int __attribute__((vector_size(32)));
+  float lo, inv_step, top;
+  int last;
+  Coords(float lowest, float inverse_step, int resolution)
+      : lo(lowest),
+        inv_step(inverse_step),
+        top(static_cast<float>(resolution - 1)),
+        last(resolution - 2) {}
+
+  void one(float w, int* index, float* frac) const {
+    float x = (w - lo) * inv_step;
+    x = x > 0 ? x : 0;
+    x = x < top ? x : top;
+    const int i = std::min(static_cast<int>(x), last);
+    *index = i;
+    *frac = x - static_cast<float>(i);
+  }
+  void lanes(const float* w, int* index, float* frac) const {  // kLanes angles
+    Lanes x = (load(w) - lo) * inv_step;
+    x = x > 0 ? x : 0;
+    x = x < top ? x : top;
+    IntLanes i = __builtin_convertvector(x, IntLanes);
+    i = i < last ? i : last;
+    std::memcpy(index, &i, sizeof i);
+    store(frac, x - __builtin_convertvector(i, Lanes));
+  }
+};
 inline Lookup lookup(float w, float lo, float inv_step, int resolution) {
-  float u = (w - lo) * inv_step;
-  u = u > 0 ? u : 0;
-  const float top = static_cast<float>(resolution - 1);
-  u = u < top ? u : top;
-  const int i = std::min(static_cast<int>(u), resolution - 2);
-  return {static_cast<std::size_t>(i), u - static_cast<float>(i)};
+  Lookup out;
+  int i;
+  Coords(lo, inv_step, resolution).one(w, &i, &out.frac);
+  out.index = static_cast<std::size_t>(i);
+  return out;
 }
 
 // Swaps (l, m) and (l, -m).
@@ -143,8 +178,8 @@ sh::Coeffs<N> wedge_exact(float w_left, float w_right, float dphi, WedgeDomain d
   double acc[N * N] = {};
   // Eq. 4.18 / 4.26: visible above the linear horizon (and, on the hemisphere, above 0).
   // Split where w(phi) crosses the floor, so each piece has a smooth lower bound.
-  const double t = (floor - wl) / (wr - wl);
-  if ((wl - floor) * (wr - floor) < 0 && t > 0 && t < 1) {
+  if ((wl - floor) * (wr - floor) < 0) {
+    const double t = (floor - wl) / (wr - wl);  // in (0, 1)
     integrate_piece<N>(0, t * dphi, wl, wr, dphi, floor, acc);
     integrate_piece<N>(t * dphi, dphi, wl, wr, dphi, floor, acc);
   } else {
@@ -171,12 +206,15 @@ WedgeTable<N>::WedgeTable(int azimuths, WedgeDomain domain, int resolution)
   lo_ = static_cast<float>(lo);
   inv_step_ = static_cast<float>(1 / step);
   const float dphi = static_cast<float>(2 * kPi / azimuths);
-  table_.assign(static_cast<std::size_t>(resolution) * resolution * kB, Block{});
+  // Rows one cache line longer than their nodes: a power-of-two row stride would put a column's
+  // nodes into one L1 set.
+  row_ = static_cast<std::size_t>(resolution) * kB + 64 / sizeof(Block);
+  table_.assign(static_cast<std::size_t>(resolution) * row_, Block{});
   for (int a = 0; a < resolution; ++a) {
     for (int b = 0; b < resolution; ++b) {
       const sh::Coeffs<N> w = wedge_exact<N>(static_cast<float>(lo + a * step),
                                              static_cast<float>(lo + b * step), dphi, domain);
-      Block* node = &table_[(static_cast<std::size_t>(a) * resolution + b) * kB];
+      Block* node = &table_[a * row_ + b * kB];
       for (int i = 0; i < N * N; ++i) node[i / kLanes].f[i % kLanes] = w[i];
     }
   }
@@ -204,15 +242,15 @@ sh::Coeffs<N> WedgeTable<N>::wedge(float w_left, float w_right) const {
   constexpr int kB = blocks<N>();
   const Lookup l = lookup(w_left, lo_, inv_step_, resolution_);
   const Lookup r = lookup(w_right, lo_, inv_step_, resolution_);
-  const Block* c00 = &table_[(l.index * resolution_ + r.index) * kB];
-  const Block* c10 = c00 + static_cast<std::size_t>(resolution_) * kB;
+  const Block* c00 = &table_[l.index * row_ + r.index * kB];
+  const Block* c10 = c00 + row_;
   const float g00 = (1 - l.frac) * (1 - r.frac), g01 = (1 - l.frac) * r.frac;
   const float g10 = l.frac * (1 - r.frac), g11 = l.frac * r.frac;
   sh::Coeffs<N> out;
   for (int i = 0; i < N * N; ++i) {
     const int v = i / kLanes, e = i % kLanes;
-    out[i] = g00 * c00[v].f[e] + g01 * c00[kB + v].f[e] + g10 * c10[v].f[e] +
-             g11 * c10[kB + v].f[e];
+    out[i] =
+        g00 * c00[v].f[e] + g01 * c00[kB + v].f[e] + g10 * c10[v].f[e] + g11 * c10[kB + v].f[e];
   }
   return out;
 }
@@ -220,45 +258,46 @@ sh::Coeffs<N> WedgeTable<N>::wedge(float w_left, float w_right) const {
 template <int N>
 sh::Coeffs<N> WedgeTable<N>::visibility(const float* angles) const {
   constexpr int kB = blocks<N>();
-  static constexpr std::array<int, N * N> kPartner = partner<N>();
+  static constexpr auto kPartner = partner<N>();
   Lanes u[kB] = {}, t[kB] = {};
-  const std::size_t row = static_cast<std::size_t>(resolution_) * kB;
+  const std::size_t row = row_;
   const Block* table = table_.data();
   const Block* rot = rotation_.data();
-  // Table coordinates first, a chunk of angles at a time (a vectorised loop), so the wedge
-  // loop below carries no long conversion chains.
+  // A chunk of angles at a time: table coordinates, then bilinear weights, on vector lanes;
+  // the wedge loop then only loads, multiplies and adds (no conversion chains to hide).
   constexpr int kChunk = 64;
   int index[kChunk + 1];
-  float frac[kChunk + 1];
-  const float top = static_cast<float>(resolution_ - 1);
-  const int last = resolution_ - 2;
+  float frac[kChunk + 1], g00[kChunk], g01[kChunk], g10[kChunk], g11[kChunk];
+  const Coords coords(lo_, inv_step_, resolution_);
   for (int k0 = 0; k0 < azimuths_; k0 += kChunk) {
     const int count = std::min(kChunk, azimuths_ - k0);
-    for (int j = 0; j < count; ++j) {
-      float x = (angles[k0 + j] - lo_) * inv_step_;
-      x = x > 0 ? x : 0;  // NaN reads as the lowest node
-      x = x < top ? x : top;
-      const int i = std::min(static_cast<int>(x), last);
-      index[j] = i;
-      frac[j] = x - static_cast<float>(i);
+    int j = 0;
+    for (; j + kLanes <= count; j += kLanes) coords.lanes(angles + k0 + j, index + j, frac + j);
+    for (; j < count; ++j) coords.one(angles[k0 + j], index + j, frac + j);
+    coords.one(angles[k0 + count < azimuths_ ? k0 + count : 0], index + count, frac + count);
+    j = 0;
+    for (; j + kLanes <= count; j += kLanes) {
+      const Lanes fl = load(frac + j), fr = load(frac + j + 1);
+      store(g00 + j, (1 - fl) * (1 - fr));
+      store(g01 + j, (1 - fl) * fr);
+      store(g10 + j, fl * (1 - fr));
+      store(g11 + j, fl * fr);
     }
-    const Lookup next = lookup(angles[k0 + count < azimuths_ ? k0 + count : 0], lo_, inv_step_,
-                               resolution_);
-    index[count] = static_cast<int>(next.index);
-    frac[count] = next.frac;
-    for (int j = 0; j < count; ++j, rot += 2 * kB) {
+    for (; j < count; ++j) {
+      const float fl = frac[j], fr = frac[j + 1];
+      g00[j] = (1 - fl) * (1 - fr), g01[j] = (1 - fl) * fr;
+      g10[j] = fl * (1 - fr), g11[j] = fl * fr;
+    }
+    for (j = 0; j < count; ++j, rot += 2 * kB) {
       const Block* c00 = table + static_cast<std::size_t>(index[j]) * row +
                          static_cast<std::size_t>(index[j + 1]) * kB;
       const Block* c10 = c00 + row;
-      const float fl = frac[j], fr = frac[j + 1];
-      const float g00 = (1 - fl) * (1 - fr), g01 = (1 - fl) * fr;
-      const float g10 = fl * (1 - fr), g11 = fl * fr;
 #pragma GCC unroll 8
       for (int v = 0; v < kB; ++v) {
-        const Lanes w = (g00 * load(c00[v]) + g01 * load(c00[kB + v])) +
-                        (g10 * load(c10[v]) + g11 * load(c10[kB + v]));
-        u[v] += load(rot[v]) * w;
-        t[v] += load(rot[kB + v]) * w;
+        const Lanes w = (g00[j] * load_block(c00[v]) + g01[j] * load_block(c00[kB + v])) +
+                        (g10[j] * load_block(c10[v]) + g11[j] * load_block(c10[kB + v]));
+        u[v] += load_block(rot[v]) * w;
+        t[v] += load_block(rot[kB + v]) * w;
       }
     }
   }

