@@ -146,12 +146,13 @@ float HeightPyramid::sample(int level, float x, float y) const {
   assert(level >= 0 && level < levels_);
   x = std::clamp(x, 0.0f, static_cast<float>(width_ - 1));
   y = std::clamp(y, 0.0f, static_cast<float>(height_ - 1));
-  const int x0 = std::min(static_cast<int>(x), width_ - 2);
-  const int y0 = std::min(static_cast<int>(y), height_ - 2);
-  const float fx = x - x0, fy = y - y0;
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const int dx = x0 + 1 < width_ ? 1 : 0;  // the last column / row: weight 0 on the next
+  const std::size_t dy = y0 + 1 < height_ ? static_cast<std::size_t>(width_) : 0;
+  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
   const float* row = level_data(level) + static_cast<std::size_t>(y0) * width_ + x0;
-  const float top = row[0] + fx * (row[1] - row[0]);
-  const float bottom = row[width_] + fx * (row[width_ + 1] - row[width_]);
+  const float top = row[0] + fx * (row[dx] - row[0]);
+  const float bottom = row[dy] + fx * (row[dy + dx] - row[dy]);
   return top + fy * (bottom - top);
 }
 

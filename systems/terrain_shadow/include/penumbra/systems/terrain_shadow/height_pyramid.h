@@ -44,7 +44,9 @@ class HeightPyramid {
   // Scaled height (metres) of level `level` (0 <= level < levels()) at plane position (x, y) in
   // cells, bilinear, clamped to the border.
   float sample(int level, float x, float y) const;
-  // Raw level storage: width * height floats, row-major.
+  // Raw level storage: width * height floats, row-major. The levels lie back to back in one
+  // array (level_data(i + 1) == level_data(i) + width * height); the march's vector loops rely
+  // on reading a few floats past a level's end.
   const float* level_data(int level) const {
     return data_.data() + static_cast<std::size_t>(level) * width_ * height_;
   }
