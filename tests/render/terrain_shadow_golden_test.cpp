@@ -1,6 +1,6 @@
 // End to end: a terrain lit by the terrain shadow systems (ECS, job graph) drawn through the
 // render extract and the renderer on lavapipe, against a golden image (render_test_util.h).
-// A sine grating under a low directional sky and a spherical light: the grooves' soft shadows
+// An egg tray under a low directional sky and a spherical light: the cups' soft shadows
 // and the light's pool must both show.
 #include <gtest/gtest.h>
 
@@ -26,14 +26,14 @@ TEST(Golden, TerrainShadowedByTheTerrainShadowSystem) {
   systems::emplace_render_resources(w);
   terrain_shadow::emplace_terrain_shadow_resources(w);
   auto& cam = w.emplace_resource<components::Camera>();
-  cam.position = {0.0f, -44.0f, 26.0f};
+  cam.position = {0.0f, -80.0f, 60.0f};
   cam.target = {0.0f, 0.0f, 0.0f};
   cam.vertical_fov = 0.9f;
   auto field = std::make_shared<assets::HeightField>(
-      assets::procedural_scene("sine_grating", {48, 48.0f}, 1));
-  w.create_with(components::Terrain{field, {-24.0f, -24.0f, 0.0f}, glm::vec3(0.6f), 2.0f},
+      assets::procedural_scene("egg_tray", {64, 96.0f}, 1));
+  w.create_with(components::Terrain{field, {-48.0f, -48.0f, 0.0f}, glm::vec3(0.6f), 1.5f},
                 components::TerrainLighting{});
-  w.create_with(components::SphericalLight{{10.0f, -8.0f, 12.0f}, 2.0f, {30.0f, 18.0f, 6.0f}});
+  w.create_with(components::SphericalLight{{20.0f, -10.0f, 16.0f}, 3.0f, {30.0f, 18.0f, 6.0f}});
   // The environment: the test map of render_test_util.h (sky gradient with a sun) as 4-band SH.
   const auto map = render::test::make_environment(64, 32);
   auto& env = w.emplace_resource<components::EnvironmentLight>();
