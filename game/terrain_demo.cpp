@@ -61,11 +61,11 @@ void animate(ecs::World& w, const TerrainDemoConfig& config) {
   w.query<Terrain>().each([&](Terrain& terrain) {
     if (!terrain.heights) return;
     const float extent = terrain.heights->cell_size * (terrain.heights->width - 1);
-    // The light circles a third of the way out, 300 m above the ground under it.
+    // The light circles a third of the way out, 400 m above the ground under it.
     const float a = 0.15f * t;
     const glm::vec2 xy = 0.3f * extent * glm::vec2(std::cos(a), std::sin(a));
     w.query<SphericalLight>().each([&](SphericalLight& l) {
-      l.position = glm::vec3(xy, terrain_height_at(terrain, xy) + 300.0f);
+      l.position = glm::vec3(xy, terrain_height_at(terrain, xy) + 400.0f);
     });
     // A brush edit every edit_interval seconds, crater and raise alternating, just behind the
     // light so its shadows change where the eye already is.
@@ -177,7 +177,7 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   terrain_shadow::emplace_terrain_shadow_resources(world, config.shadow);
   auto& settings = world.resource<systems::RenderSettings>();
   settings.sky.environment = map;
-  settings.view.exposure_ev = -0.5f;
+  settings.view.exposure_ev = -1.5f;
   EnvironmentLight& env = world.emplace_resource<EnvironmentLight>();
   env.map = map;
   env.radiance = sh::project_equirect<sh::kDefaultBands>(map->rgb.data(), map->width, map->height);
@@ -185,7 +185,7 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
 
   const float half = 0.5f * field->cell_size * (field->width - 1);
   world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}}, TerrainLighting{});
-  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 150.0f, {60.0f, 45.0f, 25.0f}});
+  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 250.0f, {40.0f, 30.0f, 16.0f}});
 }
 
 void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config) {

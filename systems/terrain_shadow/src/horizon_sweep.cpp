@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <vector>
 
@@ -13,16 +14,12 @@
 
 #include "fast_atan.h"
 #include "sweep_geometry.h"
+#include "sweep_lanes.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
-
-// Rounded to float once, so that the sweep and ray_horizon build the same frame.
-float azimuth(int k, int n) {
-  return static_cast<float>(2.0 * std::numbers::pi * k / n);
-}
 
 float to_angle(float slope, bool any, bool clamp) {
   if (!any) return clamp ? 0.0f : -kHalfPi;
@@ -50,7 +47,7 @@ struct Scratch {
 // to `plane` (region-sized, row-major in x, y).
 void sweep_azimuth(const assets::HeightField& f, const HorizonParams& p, const TexelRect& r, int k,
                    Scratch& sc, float* plane) {
-  const detail::AzimuthFrame frame(f, azimuth(k, p.azimuths));
+  const detail::AzimuthFrame frame(f, detail::azimuth_angle(k, p.azimuths));
   // Region in (major, minor) coordinates, half-open.
   const int u0 = frame.x_major ? r.x0 : r.y0, u1 = frame.x_major ? r.x1 : r.y1;
   const int v0 = frame.x_major ? r.y0 : r.x0, v1 = frame.x_major ? r.y1 : r.x1;
@@ -156,14 +153,25 @@ void prepare_output(const assets::HeightField& f, const HorizonParams& p, Horizo
 
 }  // namespace
 
-void sweep_horizons(const assets::HeightField& field, const HorizonParams& params,
-                    const TexelRect& region, HorizonGrid& out) {
+namespace {
+
+// kLanes: eight lines per AVX2 step (sweep_lanes.h); kScalar: one line at a time.
+enum class Kernel { kScalar, kLanes };
+
+void sweep(const assets::HeightField& field, const HorizonParams& params, const TexelRect& region,
+           HorizonGrid& out, Kernel kernel) {
   validate_horizon_input(field, params, region);
   if (params.limit_to_point)
     throw std::invalid_argument(
         field.source + ": the line sweep has no distance limit (use march or brute force)");
   prepare_output(field, params, out);
   if (region.empty()) return;
+#ifdef __AVX2__
+  std::optional<detail::LaneFields> fields;
+  if (kernel == Kernel::kLanes) fields.emplace(field);
+#else
+  kernel = Kernel::kScalar;
+#endif
   // Parallel over blocks of azimuths: each task sweeps its azimuths into planes, then writes
   // them into the texels' records together (a contiguous run per texel, not one strided float
   // per azimuth, which would touch every record's cache line once per azimuth).
@@ -171,10 +179,21 @@ void sweep_horizons(const assets::HeightField& field, const HorizonParams& param
   const int blocks = (params.azimuths + kBlock - 1) / kBlock;
   tbb::parallel_for(0, blocks, [&](int block) {
     const int k0 = block * kBlock, k1 = std::min(k0 + kBlock, params.azimuths);
-    Scratch sc;
     std::vector<float> planes(static_cast<std::size_t>(k1 - k0) * region.count());
-    for (int k = k0; k < k1; ++k)
-      sweep_azimuth(field, params, region, k, sc, planes.data() + (k - k0) * region.count());
+    Scratch sc;
+#ifdef __AVX2__
+    detail::LaneScratch lanes;
+#endif
+    for (int k = k0; k < k1; ++k) {
+      float* plane = planes.data() + (k - k0) * region.count();
+#ifdef __AVX2__
+      if (kernel == Kernel::kLanes) {
+        detail::sweep_azimuth_lanes(field, *fields, params, region, k, lanes, plane);
+        continue;
+      }
+#endif
+      sweep_azimuth(field, params, region, k, sc, plane);
+    }
     std::size_t i = 0;
     for (int y = region.y0; y < region.y1; ++y)
       for (int x = region.x0; x < region.x1; ++x, ++i) {
@@ -182,6 +201,18 @@ void sweep_horizons(const assets::HeightField& field, const HorizonParams& param
         for (int k = k0; k < k1; ++k) dst[k - k0] = planes[(k - k0) * region.count() + i];
       }
   });
+}
+
+}  // namespace
+
+void sweep_horizons(const assets::HeightField& field, const HorizonParams& params,
+                    const TexelRect& region, HorizonGrid& out) {
+  sweep(field, params, region, out, Kernel::kLanes);
+}
+
+void sweep_horizons_scalar(const assets::HeightField& field, const HorizonParams& params,
+                           const TexelRect& region, HorizonGrid& out) {
+  sweep(field, params, region, out, Kernel::kScalar);
 }
 
 namespace {
@@ -227,7 +258,7 @@ float sweep_line_horizon(const assets::HeightField& field, const HorizonParams& 
     limit = std::sqrt(d.x * d.x + d.y * d.y);
   }
   // The sweep's two lines either side of the texel, in the sweep's order and weights.
-  const detail::AzimuthFrame frame(field, azimuth(k, params.azimuths));
+  const detail::AzimuthFrame frame(field, detail::azimuth_angle(k, params.azimuths));
   const int u = frame.x_major ? x : y, v = frame.x_major ? y : x;
   const int c_upper = static_cast<int>(std::ceil(v - frame.slope * u));
   float acc = 0, weight = 0;
@@ -259,7 +290,7 @@ void brute_force_horizons(const assets::HeightField& field, const HorizonParams&
         limit = std::sqrt(d.x * d.x + d.y * d.y);
       }
       for (int k = 0; k < params.azimuths; ++k) {
-        const float phi = azimuth(k, params.azimuths);
+        const float phi = detail::azimuth_angle(k, params.azimuths);
         if (sampling == BruteForceSampling::kTexelRays) {
           out.texel(x, y)[k] =
               ray_horizon(field, params.height_scale, glm::vec2(x, y),

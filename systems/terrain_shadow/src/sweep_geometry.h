@@ -50,6 +50,12 @@ struct AzimuthFrame {
   }
 };
 
+// Azimuth k of n, rounded to float once, so that every sweep path and ray_horizon build the
+// same frame.
+inline float azimuth_angle(int k, int n) {
+  return static_cast<float>(2.0 * 3.14159265358979323846 * k / n);
+}
+
 // Elevation slope from receiver (j_p, h_p) to occluder (j_q, h_q); j = step * u.
 inline float slope_between(int j_p, float h_p, int j_q, float h_q, float metres_per_step) {
   return (h_q - h_p) / (static_cast<float>(j_q - j_p) * metres_per_step);

@@ -25,7 +25,7 @@ namespace penumbra::game {
 
 struct TerrainDemoConfig {
   std::string data_dir;                 // ../shared/data; empty: PENUMBRA_SHARED_DATA
-  std::string environment = "sunset.exr";  // in data_dir/hdri
+  std::string environment = "dawn.exr";  // in data_dir/hdri: a low sun, so shadows are long
   int terrain_size = 256;               // samples per side, cropped from the DEM's centre
   float sky_rotation_speed = 0.05f;     // rad/s
   float edit_interval = 3.0f;           // seconds between brush edits; <= 0: none

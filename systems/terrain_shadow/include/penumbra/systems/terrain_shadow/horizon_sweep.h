@@ -11,8 +11,8 @@
 // column (less than a cell apart; exact for azimuths along the axes and diagonals, where a line
 // passes through every texel).
 //
-// Cost: about width * height samples per azimuth (plus the lines' ends), each a few compares;
-// memory: one line's hull. Threading: pure function of its inputs; calls for disjoint regions
+// Cost: about width * height samples per azimuth, each a few compares; on AVX2 eight lines run
+// per step as masked vector operations (src/sweep_lanes.h). Memory: one line's hull. Threading: pure function of its inputs; calls for disjoint regions
 // or different outputs may run concurrently.
 #pragma once
 
@@ -48,6 +48,11 @@ enum class BruteForceSampling { kTexelRays, kSweepLines };
 void brute_force_horizons(const assets::HeightField& field, const HorizonParams& params,
                           const TexelRect& region, HorizonGrid& out,
                           BruteForceSampling sampling = BruteForceSampling::kTexelRays);
+
+// The same with the one-line-at-a-time kernel, whatever the build targets (sweep_horizons runs
+// eight lines per step on AVX2 lanes where available): for tests and benchmarks.
+void sweep_horizons_scalar(const assets::HeightField& field, const HorizonParams& params,
+                           const TexelRect& region, HorizonGrid& out);
 
 // One texel's horizon at azimuth k exactly as the sweep computes it (kSweepLines), without the
 // rest of the field: what an edit recomputes for the few (texel, azimuth) pairs it can change.
