@@ -90,6 +90,34 @@ TEST(HorizonSweep, LineInterpolationErrorAgainstEachTexelsOwnRay) {
   EXPECT_LT(max_abs_difference(sweep, brute), 0.8f);
 }
 
+TEST(HorizonSweep, ThroughAnEditEqualsAFullSweepAndFlagsWhatChanged) {
+  assets::HeightField f = mountains(50, 11);
+  HorizonParams p;
+  p.azimuths = 19;
+  HorizonGrid before, updated, full;
+  sweep_horizons(f, p, TexelRect::all(f), before);
+  const TexelRect edit{20, 14, 29, 22};
+  for (int y = edit.y0; y < edit.y1; ++y)
+    for (int x = edit.x0; x < edit.x1; ++x) f.at(x, y) += 9.0f;  // a raised block
+  updated = before;
+  std::vector<unsigned char> changed;
+  const std::size_t pairs = sweep_horizons_through(f, p, edit, updated, changed);
+  sweep_horizons(f, p, TexelRect::all(f), full);
+  EXPECT_LT(pairs, full.angles.size() / 2) << "only the lines through the edit";
+  std::size_t flagged = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      bool differs = false;
+      for (int k = 0; k < p.azimuths; ++k) {
+        ASSERT_EQ(updated.texel(x, y)[k], full.texel(x, y)[k]) << x << "," << y << "," << k;
+        differs = differs || before.texel(x, y)[k] != full.texel(x, y)[k];
+      }
+      ASSERT_EQ(changed[static_cast<std::size_t>(y) * f.width + x] != 0, differs) << x << "," << y;
+      flagged += differs;
+    }
+  EXPECT_GT(flagged, 50u);
+}
+
 TEST(HorizonSweep, WallCastsItsExactAngle) {
   assets::HeightField f;
   f.width = f.height = 32;

@@ -2,6 +2,7 @@
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -208,6 +209,41 @@ void sweep(const assets::HeightField& field, const HorizonParams& params, const 
 void sweep_horizons(const assets::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out) {
   sweep(field, params, region, out, Kernel::kLanes);
+}
+
+std::size_t sweep_horizons_through(const assets::HeightField& field, const HorizonParams& params,
+                                   const TexelRect& edited, HorizonGrid& out,
+                                   std::vector<unsigned char>& changed) {
+  validate_horizon_input(field, params, edited);
+  if (params.limit_to_point)
+    throw std::invalid_argument(
+        field.source + ": the line sweep has no distance limit (use march or brute force)");
+  if (out.width != field.width || out.height != field.height || out.azimuths != params.azimuths)
+    throw std::invalid_argument(field.source +
+                                ": sweep_horizons_through needs the previous horizons");
+  changed.resize(static_cast<std::size_t>(field.width) * field.height, 0);
+  if (edited.empty()) return 0;
+#ifdef __AVX2__
+  const detail::LaneFields fields(field);
+  std::atomic<std::size_t> pairs{0};
+  tbb::parallel_for(0, params.azimuths, [&](int k) {
+    detail::LaneScratch sc;
+    pairs += detail::sweep_azimuth_lines_through(field, fields, params, edited, k, sc, out,
+                                                 changed.data());
+  });
+  return pairs;
+#else
+  HorizonGrid fresh;
+  sweep(field, params, TexelRect::all(field), fresh, Kernel::kScalar);
+  for (int y = 0; y < field.height; ++y)
+    for (int x = 0; x < field.width; ++x)
+      for (int k = 0; k < params.azimuths; ++k)
+        if (out.texel(x, y)[k] != fresh.texel(x, y)[k]) {
+          out.texel(x, y)[k] = fresh.texel(x, y)[k];
+          changed[static_cast<std::size_t>(y) * field.width + x] = 1;
+        }
+  return fresh.angles.size();
+#endif
 }
 
 void sweep_horizons_scalar(const assets::HeightField& field, const HorizonParams& params,

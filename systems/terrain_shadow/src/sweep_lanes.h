@@ -9,6 +9,7 @@
 // with brute_force_horizons(kSweepLines) to float precision (tested).
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "penumbra/systems/terrain_shadow/horizon.h"
@@ -37,5 +38,13 @@ struct LaneScratch {
 void sweep_azimuth_lanes(const assets::HeightField& f, const LaneFields& fields,
                          const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
                          float* plane);
+
+// Recomputes azimuth k of every texel whose sweep lines pass within a sample of `edited`,
+// exactly as a full sweep_horizons would, writing `out` (sized to the field) and setting
+// changed[y * width + x] = 1 where a value changed (relaxed atomic stores: several azimuths
+// may run concurrently). Returns the number of (texel, azimuth) pairs recomputed.
+std::size_t sweep_azimuth_lines_through(const assets::HeightField& f, const LaneFields& fields,
+                                        const HorizonParams& p, const TexelRect& edited, int k,
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed);
 
 }  // namespace penumbra::terrain_shadow::detail

@@ -12,9 +12,13 @@
 // passes through every texel).
 //
 // Cost: about width * height samples per azimuth, each a few compares; on AVX2 eight lines run
-// per step as masked vector operations (src/sweep_lanes.h). Memory: one line's hull. Threading: pure function of its inputs; calls for disjoint regions
-// or different outputs may run concurrently.
+// per step as masked vector operations (src/sweep_lanes.h). Memory: one line's hull. Threading:
+// pure function of its inputs; calls for disjoint regions or different outputs may run
+// concurrently.
 #pragma once
+
+#include <cstddef>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -48,6 +52,17 @@ enum class BruteForceSampling { kTexelRays, kSweepLines };
 void brute_force_horizons(const assets::HeightField& field, const HorizonParams& params,
                           const TexelRect& region, HorizonGrid& out,
                           BruteForceSampling sampling = BruteForceSampling::kTexelRays);
+
+// After an edit of the samples in `edited`: recomputes every (texel, azimuth) whose sweep lines
+// pass within a sample of the edit -- the only horizons the edit can change -- exactly as
+// sweep_horizons would, and sets changed[y * width + x] = 1 for texels whose horizons changed
+// (`changed` is resized to width * height if needed; other entries are left as they are).
+// `out` must hold the field's previous horizons for the same params. Returns the number of
+// (texel, azimuth) pairs recomputed: about (edit size + 4) x (1 + |tan|) lines x the field's
+// length per azimuth, instead of the whole field. Without AVX2: a full sweep, compared.
+std::size_t sweep_horizons_through(const assets::HeightField& field, const HorizonParams& params,
+                                   const TexelRect& edited, HorizonGrid& out,
+                                   std::vector<unsigned char>& changed);
 
 // The same with the one-line-at-a-time kernel, whatever the build targets (sweep_horizons runs
 // eight lines per step on AVX2 lanes where available): for tests and benchmarks.
