@@ -1,16 +1,20 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "penumbra/systems/terrain_shadow/light_horizon.h"
 #include "penumbra/systems/terrain_shadow/transfer.h"
 
 namespace penumbra::terrain_shadow {
@@ -27,6 +31,16 @@ const char* to_string(HorizonMethod m) {
   return "?";
 }
 
+const char* to_string(LightShading s) {
+  switch (s) {
+    case LightShading::kShWedges:
+      return "sh_wedges";
+    case LightShading::kCapHorizon:
+      return "cap_horizon";
+  }
+  return "?";
+}
+
 namespace {
 
 constexpr float kTwoPi = 2 * std::numbers::pi_v<float>;
@@ -38,6 +52,16 @@ TerrainShadowConfig checked(const TerrainShadowConfig& c) {
         "(use march or brute_force)");
   if (c.azimuths < 3 || c.light_azimuths < 3)
     throw std::invalid_argument("terrain shadow config: at least 3 azimuths needed");
+  if (c.cap_horizons < 1 || c.cap_horizons > kMaxCapHorizons)
+    throw std::invalid_argument("terrain shadow config: cap_horizons must be in [1, " +
+                                std::to_string(kMaxCapHorizons) + "], got " +
+                                std::to_string(c.cap_horizons));
+  if (!(c.cap_wide >= 0))
+    throw std::invalid_argument("terrain shadow config: cap_wide must be >= 0");
+  if (c.cap_strips < 1 || c.cap_strips > kMaxCapStrips)
+    throw std::invalid_argument("terrain shadow config: cap_strips must be in [1, " +
+                                std::to_string(kMaxCapStrips) + "], got " +
+                                std::to_string(c.cap_strips));
   return c;
 }
 
@@ -58,7 +82,15 @@ void compute_horizons(HorizonMethod method, const assets::HeightField& f,
       sweep_horizons(f, p, region, out);
       break;
     case HorizonMethod::kMarch:
-      march_horizons(pyramid, p, march, region, out);
+      // The march is single-threaded per call: bands of 8 rows in parallel (disjoint writes
+      // once `out` has the field's size).
+      if (out.width != f.width || out.height != f.height || out.azimuths != p.azimuths)
+        out.resize(f.width, f.height, p.azimuths);
+      tbb::parallel_for(tbb::blocked_range<int>(region.y0, region.y1, 8), [&](const tbb::
+                                                                                  blocked_range<
+                                                                                      int>& rows) {
+        march_horizons(pyramid, p, march, {region.x0, rows.begin(), region.x1, rows.end()}, out);
+      });
       break;
     case HorizonMethod::kBruteForce:
       brute_force_horizons(f, p, region, out);
@@ -123,7 +155,11 @@ UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const assets::HeightFiel
   transfer_.resize(n);
   compute_normals(TexelRect::all(f));
   pyramid_valid_ = false;
-  if (config_.method == HorizonMethod::kMarch || config_.light_method == HorizonMethod::kMarch) {
+  if (config_.method == HorizonMethod::kMarch ||
+      (config_.light_shading == LightShading::kShWedges &&
+       config_.light_method == HorizonMethod::kMarch) ||
+      (config_.light_shading == LightShading::kCapHorizon &&
+       config_.cap_method == HorizonMethod::kMarch)) {
     pyramid_.build(f, height_scale, config_.pyramid);
     pyramid_valid_ = true;
   }
@@ -144,7 +180,6 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const assets::Heigh
   edited.x1 = std::min(edited.x1, field->width);
   edited.y1 = std::min(edited.y1, field->height);
   validate_horizon_input(*field, p, edited);
-  const std::shared_ptr<const assets::HeightField> old = field_;
   field_ = std::move(field);
   if (edited.empty()) return {};
   const assets::HeightField& f = *field_;
@@ -156,69 +191,14 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const assets::Heigh
                     std::min(edited.x1 + 1, w), std::min(edited.y1 + 1, h)};
   compute_normals(e);
   if (pyramid_valid_) pyramid_.build(f, height_scale, config_.pyramid);
-  float top = -std::numeric_limits<float>::infinity();
-  for (int y = e.y0; y < e.y1; ++y)
-    for (int x = e.x0; x < e.x1; ++x) top = std::max({top, old->at(x, y), f.at(x, y)});
-  top *= height_scale;
-
-  // A (texel, azimuth) pair can change only if its ray crosses the edited box (widened by a
-  // cell for the line either side) and the box's highest point, old or new, could reach its
-  // horizon: (top - h) / distance >= tan(horizon). Those pairs are recomputed exactly as the
-  // sweep would (sweep_line_horizon), so the result equals a full sweep.
+  // Every horizon the edit can change lies on a sweep line passing within a sample of it:
+  // recompute those lines exactly as a full sweep would (sweep_horizons_through), then the
+  // transfer of texels whose horizons or normal changed.
   std::vector<unsigned char> changed(static_cast<std::size_t>(w) * h, 0);
-  std::vector<std::size_t> pairs_per_row(h, 0);
-  const float cs = f.cell_size;
-  const float bx0 = (e.x0 - 1) * cs, bx1 = e.x1 * cs, by0 = (e.y0 - 1) * cs, by1 = e.y1 * cs;
-  const int n_phi = config_.azimuths;
-  tbb::parallel_for(0, h, [&](int y) {
-    for (int x = 0; x < w; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
-      float* angles = horizons_.texel(x, y);
-      const float px = x * cs, py = y * cs;
-      const bool inside = px >= bx0 && px <= bx1 && py >= by0 && py <= by1;
-      if (inside) changed[i] = 1;  // its own height or normal may have changed
-      float low = f.at(x, y);
-      for (int yy = std::max(y - 1, 0); yy <= std::min(y + 1, h - 1); ++yy)
-        low = std::min(
-            {low, f.at(x, yy), f.at(std::max(x - 1, 0), yy), f.at(std::min(x + 1, w - 1), yy)});
-      low *= height_scale;
-      const float dx = std::max({bx0 - px, 0.0f, px - bx1}),
-                  dy = std::max({by0 - py, 0.0f, py - by1});
-      const float dist = std::sqrt(dx * dx + dy * dy);
-      // Azimuth interval of the box seen from the texel.
-      float a_min = 0, a_max = kTwoPi;
-      if (!inside) {
-        const float cx[4] = {bx0, bx1, bx0, bx1}, cy[4] = {by0, by0, by1, by1};
-        const float centre = std::atan2((by0 + by1) / 2 - py, (bx0 + bx1) / 2 - px);
-        a_min = a_max = 0;
-        for (int c = 0; c < 4; ++c) {
-          float d = std::atan2(cy[c] - py, cx[c] - px) - centre;
-          d = std::remainder(d, kTwoPi);
-          a_min = std::min(a_min, d);
-          a_max = std::max(a_max, d);
-        }
-        a_min += centre;
-        a_max += centre;
-      }
-      const float step = kTwoPi / n_phi;
-      const int k0 = static_cast<int>(std::floor(a_min / step)) - 1;
-      const int k1 = static_cast<int>(std::ceil(a_max / step)) + 1;
-      std::size_t pairs = 0;
-      for (int kk = k0; kk <= k1 && kk < k0 + n_phi; ++kk) {
-        const int k = ((kk % n_phi) + n_phi) % n_phi;
-        if (!inside && (dist <= 0 || (top - low) / dist < std::tan(angles[k]) - 1e-6f)) continue;
-        const float a = sweep_line_horizon(f, p, x, y, k);
-        ++pairs;
-        if (a != angles[k]) {
-          angles[k] = a;
-          changed[i] = 1;
-        }
-      }
-      pairs_per_row[y] += pairs;
-    }
-  });
+  for (int y = e.y0; y < e.y1; ++y)
+    for (int x = e.x0; x < e.x1; ++x) changed[static_cast<std::size_t>(y) * w + x] = 1;
   UpdateStats stats;
-  for (std::size_t c : pairs_per_row) stats.horizon_pairs += c;
+  stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed);
   for (unsigned char c : changed) stats.transfer_texels += c;
   compute_transfer_rows(&changed);
   return stats;
@@ -250,6 +230,29 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
   const assets::HeightField& f = *field_;
   irradiance.resize(static_cast<std::size_t>(f.width) * f.height, glm::vec3(0.0f));
   if (radius == 0) return;
+  if (config_.light_shading == LightShading::kCapHorizon)
+    add_cap_light(centre, radius, radiance, irradiance);
+  else
+    add_sh_light(centre, radius, radiance, irradiance);
+}
+
+// Rows with a texel outside the light and not wholly behind its tangent plane.
+template <int N>
+bool TerrainShadowing<N>::row_lit(int y, const glm::vec3& centre, float radius) const {
+  for (int x = 0; x < field_->width; ++x) {
+    const glm::vec3 d = centre - position(x, y);
+    if (glm::dot(d, d) > radius * radius &&
+        glm::dot(d, normals_[static_cast<std::size_t>(y) * field_->width + x]) > -radius)
+      return true;
+  }
+  return false;
+}
+
+template <int N>
+void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
+                                       const glm::vec3& radiance,
+                                       std::vector<glm::vec3>& irradiance) {
+  const assets::HeightField& f = *field_;
   HorizonParams p;
   p.azimuths = config_.light_azimuths;
   p.height_scale = height_scale_;
@@ -259,14 +262,8 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
       light_horizons_.azimuths != p.azimuths)
     light_horizons_.resize(f.width, f.height, p.azimuths);
   tbb::parallel_for(0, f.height, [&](int y) {
+    if (!row_lit(y, centre, radius)) return;
     const TexelRect row{0, y, f.width, y + 1};
-    bool any = false;
-    for (int x = 0; x < f.width && !any; ++x) {
-      const glm::vec3 d = centre - position(x, y);
-      any = glm::dot(d, d) > radius * radius &&
-            glm::dot(d, normals_[static_cast<std::size_t>(y) * f.width + x]) > -radius;
-    }
-    if (!any) return;
     // 000 eq. 4.22-4.25 (row by row: rows are the parallel tiles).
     if (config_.light_method == HorizonMethod::kMarch)
       march_horizons(pyramid_, p, config_.march, row, light_horizons_);
@@ -286,6 +283,49 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
           diffuse_transfer<N>(sphere_.visibility(light_horizons_.texel(x, y)), normals_[i]);
       const float e = sh::dot<N>(spherical_light_radiance<N>(d, radius), t);
       irradiance[i] += radiance * std::max(e, 0.0f);
+    }
+  });
+}
+
+template <int N>
+void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
+                                        const glm::vec3& radiance,
+                                        std::vector<glm::vec3>& irradiance) {
+  const assets::HeightField& f = *field_;
+  const HorizonMethod method = config_.cap_method;
+  std::optional<LightHorizonMarch> marcher;
+  if (method == HorizonMethod::kMarch) marcher.emplace(pyramid_, config_.march);
+  if (method == HorizonMethod::kSweep) radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y));
+  const bool sweep = method == HorizonMethod::kSweep;
+  tbb::parallel_for(0, f.height, [&](int y) {
+    if (!row_lit(y, centre, radius)) return;
+    for (int x = 0; x < f.width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
+      const glm::vec3 d = centre - position(x, y);
+      LightCap cap;
+      if (glm::dot(d, normals_[i]) <= -radius || !make_light_cap(d, radius, cap)) continue;
+      // Horizons towards the cap only, limited to the light's plane distance (000 eq. 4.22).
+      std::array<float, kMaxCapHorizons> horizon;
+      bool one = sweep;
+      if (sweep) {
+        horizon[0] = radial_.horizon(x, y);
+        if (cap.rho >= config_.cap_wide) {
+          // A wide cap the horizon passes near: the horizon may vary across it.
+          const float e = std::atan2(cap.sin_e, cap.cos_e), half = std::asin(cap.rho);
+          one = !(horizon[0] > e - 2 * half && horizon[0] < e + 2 * half);
+        }
+      }
+      const int count = one ? 1 : config_.cap_horizons;
+      for (int j = 0; j < count && !one; ++j) {
+        const glm::vec2 dir = cap_horizon_direction(cap, j, count);
+        horizon[j] =
+            method == HorizonMethod::kMarch
+                ? marcher->horizon(x, y, dir, cap.plane_distance / f.cell_size)
+                : ray_horizon(f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
+                              std::atan2(dir.y, dir.x), cap.plane_distance, false);
+      }
+      const float e = cap_transfer(cap, normals_[i], horizon.data(), count, config_.cap_strips);
+      irradiance[i] += radiance * e;
     }
   });
 }
