@@ -77,8 +77,8 @@ void animate(ecs::World& w, const TerrainDemoConfig& config) {
         terrain_shadow::Brush b;
         b.kind = n % 2 ? terrain_shadow::BrushKind::kCrater : terrain_shadow::BrushKind::kRaise;
         b.centre = 0.3f * extent * glm::vec2(std::cos(a - 0.4f), std::sin(a - 0.4f));
-        b.radius = 0.04f * extent;
-        b.strength = 120.0f;
+        b.radius = 0.06f * extent;
+        b.strength = 250.0f;
         terrain_shadow::apply_brush(terrain, b);
       }
     }
@@ -185,7 +185,7 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
 
   const float half = 0.5f * field->cell_size * (field->width - 1);
   world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}}, TerrainLighting{});
-  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 250.0f, {40.0f, 30.0f, 16.0f}});
+  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}});
 }
 
 void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config) {
