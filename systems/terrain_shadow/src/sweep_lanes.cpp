@@ -90,6 +90,10 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
   };
 
   __m256i top = _mm256_setzero_si256();  // hull size per lane
+  // The top two hull points of every lane live in registers (a = top - 1, b = top - 2): the
+  // common step (no pop, or one) then reads no memory; the hull arrays hold the full stacks.
+  __m256 ah = _mm256_setzero_ps(), aj = _mm256_setzero_ps();
+  __m256 bh = _mm256_setzero_ps(), bj = _mm256_setzero_ps();
   std::size_t records = 0;
   const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
   for (int u = u_start;; u -= frame.step) {
@@ -114,23 +118,19 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
       for (;;) {
         const __m256 can = _mm256_and_ps(
             valid, _mm256_castsi256_ps(_mm256_cmpgt_epi32(top, _mm256_set1_epi32(1))));
-        if (_mm256_testz_ps(can, can)) break;
-        const __m256i i1 = index(top, 1), i2 = index(top, 2);
-        const __m256 ah = _mm256_i32gather_ps(sc.hull_h.data(), i1, 4);
-        const __m256 aj = _mm256_i32gather_ps(sc.hull_j.data(), i1, 4);
-        const __m256 bh = _mm256_i32gather_ps(sc.hull_h.data(), i2, 4);
-        const __m256 bj = _mm256_i32gather_ps(sc.hull_j.data(), i2, 4);
         const __m256 lhs = _mm256_mul_ps(_mm256_sub_ps(bh, h), _mm256_sub_ps(aj, j));
         const __m256 rhs = _mm256_mul_ps(_mm256_sub_ps(ah, h), _mm256_sub_ps(bj, j));
         const __m256 pop = _mm256_and_ps(can, _mm256_cmp_ps(lhs, rhs, _CMP_GE_OQ));
         if (_mm256_testz_ps(pop, pop)) break;
         top = _mm256_add_epi32(top, _mm256_castps_si256(pop));  // -1 where popping
+        ah = _mm256_blendv_ps(ah, bh, pop);
+        aj = _mm256_blendv_ps(aj, bj, pop);
+        const __m256i i2 = index(top, 2);  // the new second point, from memory
+        bh = _mm256_blendv_ps(bh, _mm256_i32gather_ps(sc.hull_h.data(), i2, 4), pop);
+        bj = _mm256_blendv_ps(bj, _mm256_i32gather_ps(sc.hull_j.data(), i2, 4), pop);
       }
       if (u >= rec_lo && u < rec_hi) {
         const __m256i has = _mm256_and_si256(ok, _mm256_cmpgt_epi32(top, _mm256_setzero_si256()));
-        const __m256i i1 = index(top, 1);
-        const __m256 ah = _mm256_i32gather_ps(sc.hull_h.data(), i1, 4);
-        const __m256 aj = _mm256_i32gather_ps(sc.hull_j.data(), i1, 4);
         const __m256 s =
             _mm256_div_ps(_mm256_sub_ps(ah, h), _mm256_mul_ps(_mm256_sub_ps(aj, j), mps));
         // Nothing ahead: -inf (atan -pi/2); outside the field: 0 (weight 0, kept finite).
@@ -142,18 +142,21 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
         sc.rec_valid[records] = static_cast<unsigned char>(_mm256_movemask_ps(valid));
         ++records;
       }
-      // Push on the lanes inside the field (AVX2 has no scatter).
+      // Push on the lanes inside the field. AVX2 has no scatter: eight scalar stores, on every
+      // lane (a lane outside the field writes above its stack, which its top does not reach).
       alignas(32) float hv[8];
       alignas(32) int tv[8];
       _mm256_store_ps(hv, h);
       _mm256_store_si256(reinterpret_cast<__m256i*>(tv), top);
-      const int mask = _mm256_movemask_ps(valid);
-      for (int l = 0; l < 8; ++l)
-        if (mask >> l & 1) {
-          sc.hull_h[static_cast<std::size_t>(tv[l]) * 8 + l] = hv[l];
-          sc.hull_j[static_cast<std::size_t>(tv[l]) * 8 + l] = jf;
-        }
+      for (int l = 0; l < 8; ++l) {
+        sc.hull_h[static_cast<std::size_t>(tv[l]) * 8 + l] = hv[l];
+        sc.hull_j[static_cast<std::size_t>(tv[l]) * 8 + l] = jf;
+      }
       top = _mm256_sub_epi32(top, _mm256_castps_si256(valid));  // +1 where valid
+      bh = _mm256_blendv_ps(bh, ah, valid);
+      bj = _mm256_blendv_ps(bj, aj, valid);
+      ah = _mm256_blendv_ps(ah, h, valid);
+      aj = _mm256_blendv_ps(aj, j, valid);
     }
     if (u == u_end) break;
   }
