@@ -18,6 +18,16 @@ void validate_horizon_input(const assets::HeightField& field, const HorizonParam
          std::to_string(field.width) + " x " + std::to_string(field.height) + " samples");
   if (!(field.cell_size > 0) || !std::isfinite(field.cell_size))
     fail("cell size " + std::to_string(field.cell_size) + " must be finite and > 0");
+  validate_horizon_params(name, params, field.width, field.height, region);
+  for (std::size_t i = 0; i < field.heights.size(); ++i)
+    if (!std::isfinite(field.heights[i]))
+      fail("height at sample (" + std::to_string(i % field.width) + ", " +
+           std::to_string(i / field.width) + ") is not finite");
+}
+
+void validate_horizon_params(const std::string& name, const HorizonParams& params, int width,
+                             int height, const TexelRect& region) {
+  auto fail = [&](const std::string& why) { throw std::invalid_argument(name + ": " + why); };
   if (!std::isfinite(params.height_scale))
     fail("height scale " + std::to_string(params.height_scale) + " must be finite");
   if (params.azimuths < 3)
@@ -25,14 +35,10 @@ void validate_horizon_input(const assets::HeightField& field, const HorizonParam
   if (params.limit_to_point &&
       !(std::isfinite(params.limit_to_point->x) && std::isfinite(params.limit_to_point->y)))
     fail("light position must be finite");
-  if (region.x0 < 0 || region.y0 < 0 || region.x1 > field.width || region.y1 > field.height ||
+  if (region.x0 < 0 || region.y0 < 0 || region.x1 > width || region.y1 > height ||
       region.x0 > region.x1 || region.y0 > region.y1)
     fail("region [" + std::to_string(region.x0) + ", " + std::to_string(region.x1) + ") x [" +
          std::to_string(region.y0) + ", " + std::to_string(region.y1) + ") is outside the field");
-  for (std::size_t i = 0; i < field.heights.size(); ++i)
-    if (!std::isfinite(field.heights[i]))
-      fail("height at sample (" + std::to_string(i % field.width) + ", " +
-           std::to_string(i / field.width) + ") is not finite");
 }
 
 }  // namespace penumbra::terrain_shadow

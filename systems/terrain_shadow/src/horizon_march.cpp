@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "fast_atan.h"
+#include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -41,20 +42,6 @@ struct SampleOffset {
   int dx, dy, sx, sy;
   float fx, fy;
 };
-
-// Split an offset into floor and fraction, snapping fractions within 1e-5 of a grid line (the
-// axis and diagonal azimuths, whose cos / sin are off by ~1e-8) onto it.
-void split(double v, int& whole, float& frac) {
-  double f = std::floor(v), r = v - f;
-  if (r > 1 - 1e-5) {
-    f += 1;
-    r = 0;
-  } else if (r < 1e-5) {
-    r = 0;
-  }
-  whole = static_cast<int>(f);
-  frac = static_cast<float>(r);
-}
 
 // Everything that depends on the pyramid and the parameters but not on the texel.
 struct Plan {
@@ -87,8 +74,8 @@ struct Plan {
       const double cx = std::cos(phi), cy = std::sin(phi);
       for (int i = 0; i < n; ++i) {
         SampleOffset& o = at[static_cast<std::size_t>(k) * n + i];
-        split(d[i] * cx, o.dx, o.fx);
-        split(d[i] * cy, o.dy, o.fy);
+        detail::split_offset(d[i] * cx, o.dx, o.fx);
+        detail::split_offset(d[i] * cy, o.dy, o.fy);
         o.sx = o.fx > 0 ? 1 : 0;
         o.sy = o.fy > 0 ? 1 : 0;
       }
@@ -119,19 +106,9 @@ void validate(const HeightPyramid& pyr, const HorizonParams& params, const March
     throw std::invalid_argument(name + ": horizon march: " + why);
   };
   if (pyr.levels() == 0) fail("the pyramid has not been built");
-  if (!std::isfinite(params.height_scale))
-    fail("height scale " + std::to_string(params.height_scale) + " must be finite");
-  if (params.azimuths < 3)
-    fail("needs at least 3 azimuths, got " + std::to_string(params.azimuths));
-  if (params.limit_to_point &&
-      !(std::isfinite(params.limit_to_point->x) && std::isfinite(params.limit_to_point->y)))
-    fail("light position must be finite");
+  validate_horizon_params(name + ": horizon march", params, pyr.width(), pyr.height(), region);
   if (!(march.level_offset >= 0) || !std::isfinite(march.level_offset))
     fail("level offset " + std::to_string(march.level_offset) + " must be finite and >= 0");
-  if (region.x0 < 0 || region.y0 < 0 || region.x1 > pyr.width() || region.y1 > pyr.height() ||
-      region.x0 > region.x1 || region.y0 > region.y1)
-    fail("region [" + std::to_string(region.x0) + ", " + std::to_string(region.x1) + ") x [" +
-         std::to_string(region.y0) + ", " + std::to_string(region.y1) + ") is outside the field");
 }
 
 constexpr int kVector = 8;  // lanes per vector: the slope loop runs whole vectors

@@ -17,6 +17,7 @@
 
 #include "fast_atan.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "sweep_geometry.h"
 
 #ifdef __AVX2__
 #include <immintrin.h>
@@ -34,20 +35,6 @@ inline float fast_asin(float x) {
 }
 inline float fast_acos(float x) {
   return kHalfPi - fast_asin(x);
-}
-
-// Split an offset into floor and fraction, snapping fractions within 1e-5 of a grid line onto
-// it, as horizon_march.cpp does (axis and diagonal directions land exactly on samples).
-inline void split(float v, int& whole, float& frac) {
-  float f = std::floor(v), r = v - f;
-  if (r > 1 - 1e-5f) {
-    f += 1;
-    r = 0;
-  } else if (r < 1e-5f) {
-    r = 0;
-  }
-  whole = static_cast<int>(f);
-  frac = r;
 }
 
 // Uniform cubic B-spline at a knot and at the mid-point after it (000 eq. 4.8-4.12, sec. 5.2).
@@ -121,8 +108,8 @@ float LightHorizonMarch::horizon(int x, int y, glm::vec2 dir, float limit) const
   for (int i = 0; i <= last; ++i) {
     int ox, oy;
     float fx, fy;
-    split(d_[i] * dir.x, ox, fx);
-    split(d_[i] * dir.y, oy, fy);
+    detail::split_offset(d_[i] * dir.x, ox, fx);
+    detail::split_offset(d_[i] * dir.y, oy, fy);
     const int sx = fx > 0 ? 1 : 0, sy = fy > 0 ? 1 : 0;
     const int px = x + ox, py = y + oy;
     // Footprints outside the field are dropped; rays are straight, so the rest are too.

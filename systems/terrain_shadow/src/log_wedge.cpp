@@ -20,22 +20,17 @@
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
 
+#include "lanes.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
 
-// Eight floats on vector lanes (GCC/Clang vector extension, as in sh/basis.cpp).
-using Lanes = float __attribute__((vector_size(32)));
-inline Lanes load(const float* p) {
-  Lanes v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store(float* p, Lanes v) {
-  std::memcpy(p, &v, sizeof v);
-}
+using detail::Lanes;  // lanes.h
+using detail::load;
+using detail::store;
 
 // sin x for |x| <= pi/2: Taylor series to x^11 (truncation < 6e-8).
 inline Lanes sin_poly(Lanes x) {

@@ -50,6 +50,21 @@ struct AzimuthFrame {
   }
 };
 
+// Splits a sample offset (in cells) into floor and fraction, snapping fractions within 1e-5
+// of a grid line onto it: the axis and diagonal directions, whose cos / sin are off by ~1e-8,
+// then land exactly on samples (the pyramid march and the light-horizon march).
+inline void split_offset(double v, int& whole, float& frac) {
+  double f = std::floor(v), r = v - f;
+  if (r > 1 - 1e-5) {
+    f += 1;
+    r = 0;
+  } else if (r < 1e-5) {
+    r = 0;
+  }
+  whole = static_cast<int>(f);
+  frac = static_cast<float>(r);
+}
+
 // Azimuth k of n, rounded to float once, so that every sweep path and ray_horizon build the
 // same frame.
 inline float azimuth_angle(int k, int n) {

@@ -19,6 +19,8 @@
 
 #include "penumbra/sh/projection.h"
 
+#include "lanes.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
 
@@ -89,7 +91,9 @@ double domain_min(WedgeDomain domain) {
 
 // Eight floats on vector lanes (GCC/Clang vector extension, as in sh/basis.cpp); a table node
 // is blocks<N>() aligned 8-float blocks.
-using Lanes = float __attribute__((vector_size(32)));
+using detail::Lanes;
+using detail::load;
+using detail::store;
 constexpr int kLanes = 8;
 
 template <int N>
@@ -103,14 +107,6 @@ inline Lanes load_block(const Block& b) {
   Lanes v;
   std::memcpy(&v, b.f, sizeof v);
   return v;
-}
-inline Lanes load(const float* p) {
-  Lanes v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store(float* p, Lanes v) {
-  std::memcpy(p, &v, sizeof v);
 }
 
 // Table coordinate of an angle: lower node in [0, resolution - 2] and fraction in [0, 1],

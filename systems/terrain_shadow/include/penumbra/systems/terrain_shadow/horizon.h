@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -69,5 +70,9 @@ struct HorizonGrid {
 // a region outside the field. Every horizon method calls it first.
 void validate_horizon_input(const assets::HeightField& field, const HorizonParams& params,
                             const TexelRect& region);
+// Its parameter and region checks alone, for a width x height field called `name` (methods
+// that see a derived structure rather than the field, e.g. the pyramid march).
+void validate_horizon_params(const std::string& name, const HorizonParams& params, int width,
+                             int height, const TexelRect& region);
 
 }  // namespace penumbra::terrain_shadow
