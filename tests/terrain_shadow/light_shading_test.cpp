@@ -21,8 +21,12 @@
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
+#include "terrain_test_util.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
+
+using test::mountains;
 
 constexpr float kPi = std::numbers::pi_v<float>;
 constexpr double kPiD = std::numbers::pi;
@@ -34,11 +38,6 @@ std::shared_ptr<const assets::HeightField> flat(int n, float h = 0) {
   f->heights.assign(static_cast<std::size_t>(n) * n, h);
   f->source = "flat";
   return f;
-}
-
-std::shared_ptr<const assets::HeightField> mountains(int n) {
-  return std::make_shared<assets::HeightField>(
-      assets::procedural_scene("mountains", {n, 2.0f * n}, 4));
 }
 
 TerrainShadowConfig mode(LightShading shading, HorizonMethod cap_method = HorizonMethod::kSweep) {

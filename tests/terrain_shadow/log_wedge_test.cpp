@@ -19,29 +19,20 @@
 #include "penumbra/sh/zh.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
 
+#include "terrain_test_util.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
+
+using test::max_abs_diff;
+using test::random_horizon;
 
 constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kLogEps = -3.0f;
 
 template <int N>
-float max_abs_diff(const sh::Coeffs<N>& a, const sh::Coeffs<N>& b) {
-  float d = 0;
-  for (int i = 0; i < N * N; ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
-
-template <int N>
 float norm(const sh::Coeffs<N>& a) {
   return std::sqrt(sh::dot<N>(a, a));
-}
-
-std::vector<float> random_horizon(std::mt19937& rng, int n, float lo, float hi) {
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> a(n);
-  for (float& x : a) x = u(rng);
-  return a;
 }
 
 // Eq. 20 literally: sum_k rotate_z(M_lin [v_k; v_k+1], phi_k), v_k = nlp_log_slice.

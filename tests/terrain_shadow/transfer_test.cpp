@@ -18,17 +18,14 @@
 #include "penumbra/sh/zh.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
 
+#include "terrain_test_util.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
+using test::max_abs_diff;
 
-template <int N>
-float max_abs_diff(const sh::Coeffs<N>& a, const sh::Coeffs<N>& b) {
-  float d = 0;
-  for (int i = 0; i < N * N; ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
+constexpr float kPi = std::numbers::pi_v<float>;
 
 sh::Coeffs<4> constant(float value) {
   sh::Coeffs<4> c{};

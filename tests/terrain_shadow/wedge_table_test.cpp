@@ -17,17 +17,15 @@
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
 
+#include "terrain_test_util.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
+using test::max_abs_diff;
+using test::random_horizon;
 
-template <int N>
-float max_abs_diff(const sh::Coeffs<N>& a, const sh::Coeffs<N>& b) {
-  float d = 0;
-  for (int i = 0; i < N * N; ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  return d;
-}
+constexpr float kPi = std::numbers::pi_v<float>;
 
 template <int N>
 sh::Coeffs<N> add(const sh::Coeffs<N>& a, const sh::Coeffs<N>& b) {
@@ -71,13 +69,6 @@ const WedgeTable<4>& hemisphere32() {
 const WedgeTable<4>& sphere32() {
   static const WedgeTable<4> t(32, WedgeDomain::kSphere);
   return t;
-}
-
-std::vector<float> random_horizon(std::mt19937& rng, int n, float lo, float hi) {
-  std::uniform_real_distribution<float> u(lo, hi);
-  std::vector<float> a(n);
-  for (float& x : a) x = u(rng);
-  return a;
 }
 
 TEST(WedgeExact, ConstantHorizonSumsToTheCap) {
