@@ -1,0 +1,90 @@
+// The main job's scene without the renderer: the demo's systems animate the sky and the light,
+// edit the terrain on schedule, and the terrain shadow system follows; the debug view draws
+// the probed texel's horizon fan.
+#include "penumbra/game/terrain_demo.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "penumbra/assets/height_field.h"
+#include "penumbra/assets/load_error.h"
+#include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
+#include "penumbra/components/spherical_light.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/jobs/executor.h"
+#include "penumbra/render/packet.h"
+
+namespace penumbra::game {
+namespace {
+
+using components::SphericalLight;
+using components::Terrain;
+using components::TerrainLighting;
+
+TEST(TerrainDemo, SkyLightAndEditsDriveTheShadowSystem) {
+  ecs::World world;
+  TerrainDemoConfig config;
+  config.terrain_size = 64;     // a crop of the DEM: the same code path, less work
+  config.edit_interval = 0.1f;  // every 3 frames of 1/30 s
+  populate_terrain_demo(world, config);
+  jobs::Schedule schedule;
+  add_terrain_demo_systems(schedule, config);
+  jobs::Executor executor(2);
+
+  executor.run(schedule, world);
+  const auto first_heights = [&] {
+    std::shared_ptr<const assets::HeightField> h;
+    world.query<const Terrain>().each([&](const Terrain& t) { h = t.heights; });
+    return h;
+  }();
+  glm::vec3 light_before{};
+  world.query<const SphericalLight>().each(
+      [&](const SphericalLight& l) { light_before = l.position; });
+  for (int f = 0; f < 6; ++f) executor.run(schedule, world);
+
+  int terrains = 0;
+  world.query<const Terrain, const TerrainLighting>().each(
+      [&](const Terrain& t, const TerrainLighting& l) {
+        ++terrains;
+        EXPECT_EQ(t.version, 2u) << "edits at frames 3 and 6";
+        EXPECT_NE(t.heights, first_heights);
+        ASSERT_TRUE(l.rgb);
+        EXPECT_EQ(l.width, 64);
+        EXPECT_EQ(l.rgb->size(), 64u * 64u);
+        for (const glm::vec3& c : *l.rgb) ASSERT_TRUE(std::isfinite(c.x) && c.x >= 0);
+      });
+  EXPECT_EQ(terrains, 1);
+  world.query<const SphericalLight>().each(
+      [&](const SphericalLight& l) { EXPECT_NE(l.position, light_before); });
+  EXPECT_GT(world.resource<components::EnvironmentLight>().rotation_z, 0.0f);
+  const render::RenderPacket& packet = world.resource<render::RenderPacket>();
+  EXPECT_EQ(packet.spheres.size(), 1u) << "the light";
+  // The horizon fan of the view-centre texel: one ray and one rim segment per azimuth, and
+  // the normal.
+  EXPECT_EQ(packet.lines.size(), 2u * 32u + 1u);
+  // The renderer gets the heights times the demo's vertical exaggeration.
+  ASSERT_TRUE(packet.terrain.heights);
+  world.query<const Terrain>().each([&](const Terrain& t) {
+    EXPECT_EQ(t.height_scale, 2.0f);
+    EXPECT_FLOAT_EQ(packet.terrain.heights->at(5, 7), t.height_scale * t.heights->at(5, 7));
+  });
+}
+
+TEST(TerrainDemo, MissingDataNamesTheFile) {
+  ecs::World world;
+  TerrainDemoConfig config;
+  config.data_dir = "/nonexistent/penumbra-data";
+  try {
+    populate_terrain_demo(world, config);
+    FAIL() << "loaded from a missing folder";
+  } catch (const assets::LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find("jacksboro_fault_dem"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::game
