@@ -21,6 +21,7 @@ struct Options {
   std::string device;  // render/device_select.h
   int width = 960, height = 540;
   std::size_t points = 50'000;  // particles drawn at most (every k-th); 0: all
+  float terrain_lod_pixels = -1;  // < 0: the scene's own (render::ViewSettings)
 };
 
 // Both print the per-system CPU table and the per-pass GPU table; return main()'s status.

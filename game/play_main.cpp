@@ -79,7 +79,13 @@ Options parse(int argc, char** argv) {
       o.validation = true;
     else if (a == "--points")
       o.points = static_cast<std::size_t>(number(0));
-    else if (a == "--device")
+    else if (a == "--terrain-lod") {
+      const std::string v = value();
+      char* end = nullptr;
+      o.terrain_lod_pixels = std::strtof(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(o.terrain_lod_pixels >= 0))
+        usage(("--terrain-lod needs pixels >= 0, got '" + v + "'").c_str());
+    } else if (a == "--device")
       o.device = value();
     else if (a == "--size") {
       const std::string v = value();

@@ -62,6 +62,8 @@ struct Sim {
       world.resource<game::HorizonProbe>().aspect =
           static_cast<float>(o.width) / static_cast<float>(o.height);
       game::add_terrain_demo_systems(schedule, demo);
+      if (o.terrain_lod_pixels >= 0)
+        world.resource<systems::RenderSettings>().view.terrain_lod_pixels = o.terrain_lod_pixels;
       return;
     }
     game::SampleWorldConfig config;

@@ -12,24 +12,33 @@
 layout(push_constant) uniform Push {
   vec4 origin_cell;  // xyz: world position of sample (0, 0) at height 0; w: cell size
   vec4 albedo;       // rgb: albedo; w: 1 when a lighting texture is bound
-  ivec4 grid;        // x: samples along x, y: samples along y
-  vec4 skirt;        // x: skirt depth of the chunk being drawn (metres)
+  ivec4 grid;        // x, y: samples along x and y; z: chunks along x; w: quads per chunk side
 } pc;
 
 #ifdef PENUMBRA_VERTEX
 layout(set = 0, binding = 1, std430) readonly buffer Heights { float heights[]; };
+layout(set = 0, binding = 3, std430) readonly buffer Skirts { float skirt_depth[]; };
 layout(location = 0) out vec2 v_uv;
 void main() {
   int w = pc.grid.x;
   int samples = pc.grid.x * pc.grid.y;
   int i = gl_VertexIndex;
   float drop = 0.0;
-  if (i >= samples) {
-    i -= samples;
-    drop = pc.skirt.x;
+  int x, y;
+  if (i < samples) {
+    x = i % w;
+    y = i / w;
+  } else {
+    // A skirt's lower vertex: chunk * (q + 1)^2 + the chunk-local index, past the samples.
+    int q1 = pc.grid.w + 1;
+    int j = i - samples;
+    int chunk = j / (q1 * q1);
+    int local = j - chunk * q1 * q1;
+    x = (chunk % pc.grid.z) * pc.grid.w + local % q1;
+    y = (chunk / pc.grid.z) * pc.grid.w + local / q1;
+    i = y * w + x;
+    drop = skirt_depth[chunk];
   }
-  int x = i % w;
-  int y = i / w;
   vec3 p = pc.origin_cell.xyz + vec3(x * pc.origin_cell.w, y * pc.origin_cell.w, heights[i] - drop);
   v_uv = vec2(x, y) / vec2(pc.grid.xy - 1);
   gl_Position = camera.view_proj * vec4(p, 1.0);

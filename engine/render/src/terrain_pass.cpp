@@ -16,10 +16,8 @@ constexpr VkFormat kLightingFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 struct Push {
   float origin_cell[4];
   float albedo[4];
-  std::int32_t grid[4];
-  float skirt[4];
+  std::int32_t grid[4];  // samples along x, along y; chunks along x; quads per chunk side
 };
-constexpr std::uint32_t kRestart = 0xFFFFFFFFu;
 
 // Sample positions 0, s, 2s, ... along a chunk side of `quads` quads, always ending at `quads`.
 std::vector<int> stops(int quads, int stride) {
@@ -53,7 +51,8 @@ TerrainPass::TerrainPass(Device& device, VkFormat color_format, VkFormat depth_f
       {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr}};
   layout_ = create_pipeline_layout(device, bindings, sizeof(Push));
   PipelineDesc d;
   d.vertex = Shader::kTerrainVert;
@@ -135,68 +134,10 @@ void TerrainPass::upload_heights(FrameContext& ctx, const assets::HeightField& f
   }
   if (f.width != grid_w_ || f.height != grid_h_) {
     if (heights_.size) ctx.retire.retire(ctx.frame, std::move(heights_));
-    if (indices_.size) ctx.retire.retire(ctx.frame, std::move(indices_));
     heights_ =
         create_buffer(ctx.device, bytes,
                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
-    // Index patterns: triangle strips in chunk-local sample indices (y * width + x; + width *
-    // height for the lowered skirt copy), made global by each draw's vertexOffset.
-    const auto w = static_cast<std::uint32_t>(f.width);
-    const std::uint32_t skirt = w * static_cast<std::uint32_t>(f.height);
-    std::vector<std::uint32_t> idx;
-    ranges_.assign(shapes.size(), {});
-    auto at = [&](int x, int y) {
-      return static_cast<std::uint32_t>(y) * w + static_cast<std::uint32_t>(x);
-    };
-    for (std::size_t shape = 0; shape < shapes.size(); ++shape) {
-      for (int level = 0; level < kLods; ++level) {
-        const std::vector<int> xs = stops(shapes[shape].first, 1 << level);
-        const std::vector<int> ys = stops(shapes[shape].second, 1 << level);
-        auto& parts = ranges_[shape][level];
-        auto strip = [&](Range& r, std::size_t n, auto vertex_pair) {
-          for (std::size_t i = 0; i < n; ++i) {
-            const auto [a, b] = vertex_pair(i);
-            idx.insert(idx.end(), {a, b});
-          }
-          idx.push_back(kRestart);
-          r.triangles += static_cast<std::uint32_t>(2 * n - 2);
-        };
-        auto part = [&](Part p, auto fill) {
-          parts[p].first = static_cast<std::uint32_t>(idx.size());
-          fill(parts[p]);
-          parts[p].count = static_cast<std::uint32_t>(idx.size()) - parts[p].first;
-        };
-        part(kSurface, [&](Range& r) {
-          for (std::size_t row = 0; row + 1 < ys.size(); ++row)
-            strip(r, xs.size(), [&](std::size_t i) {
-              return std::make_pair(at(xs[i], ys[row + 1]), at(xs[i], ys[row]));
-            });
-        });
-        const std::pair<Part, int> rows[] = {{kSkirtLow, ys.front()}, {kSkirtHigh, ys.back()}};
-        for (const auto& row : rows) {
-          const int edge_y = row.second;  // not a structured binding: clang 14 cannot capture those
-          part(row.first, [&](Range& r) {
-            strip(r, xs.size(), [&](std::size_t i) {
-              return std::make_pair(at(xs[i], edge_y), at(xs[i], edge_y) + skirt);
-            });
-          });
-        }
-        const std::pair<Part, int> cols[] = {{kSkirtLeft, xs.front()}, {kSkirtRight, xs.back()}};
-        for (const auto& col : cols) {
-          const int edge_x = col.second;
-          part(col.first, [&](Range& r) {
-            strip(r, ys.size(), [&](std::size_t i) {
-              return std::make_pair(at(edge_x, ys[i]), at(edge_x, ys[i]) + skirt);
-            });
-          });
-        }
-      }
-    }
-    indices_ =
-        create_buffer(ctx.device, idx.size() * sizeof(std::uint32_t),
-                      VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, false);
-    copy_to_buffer(ctx.cmd, ctx.ring, idx.data(), idx.size() * sizeof(std::uint32_t),
-                   indices_.get());
+    build_patterns(f.width, shapes);
     grid_w_ = f.width;
     grid_h_ = f.height;
   } else {
@@ -206,8 +147,67 @@ void TerrainPass::upload_heights(FrameContext& ctx, const assets::HeightField& f
   }
   copy_to_buffer(ctx.cmd, ctx.ring, f.heights.data(), bytes, heights_.get());
   memory_barrier(ctx.cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT,
-                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_INDEX_READ_BIT);
+                 VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
+void TerrainPass::build_patterns(int grid_width, const std::vector<std::pair<int, int>>& shapes) {
+  // Triangle strips per chunk shape, level and part. A surface entry is the sample's offset
+  // from the chunk's first sample (ly * width + lx); a skirt's lowered entry is kLowered | its
+  // chunk-local index (ly * (kChunkQuads + 1) + lx), which draw() turns into the vertex the
+  // shader lowers by that chunk's skirt depth.
+  const auto w = static_cast<std::uint32_t>(grid_width);
+  patterns_.clear();
+  ranges_.assign(shapes.size(), {});
+  auto at = [&](int x, int y) {
+    return static_cast<std::uint32_t>(y) * w + static_cast<std::uint32_t>(x);
+  };
+  auto lowered = [](int x, int y) {
+    return kLowered | static_cast<std::uint32_t>(y * (kChunkQuads + 1) + x);
+  };
+  for (std::size_t shape = 0; shape < shapes.size(); ++shape) {
+    for (int level = 0; level < kLods; ++level) {
+      const std::vector<int> xs = stops(shapes[shape].first, 1 << level);
+      const std::vector<int> ys = stops(shapes[shape].second, 1 << level);
+      auto& parts = ranges_[shape][level];
+      auto strip = [&](Range& r, std::size_t n, auto vertex_pair) {
+        for (std::size_t i = 0; i < n; ++i) {
+          const auto [a, b] = vertex_pair(i);
+          patterns_.insert(patterns_.end(), {a, b});
+        }
+        patterns_.push_back(kRestart);
+        r.triangles += static_cast<std::uint32_t>(2 * n - 2);
+      };
+      auto part = [&](Part p, auto fill) {
+        parts[p].first = static_cast<std::uint32_t>(patterns_.size());
+        fill(parts[p]);
+        parts[p].count = static_cast<std::uint32_t>(patterns_.size()) - parts[p].first;
+      };
+      part(kSurface, [&](Range& r) {
+        for (std::size_t row = 0; row + 1 < ys.size(); ++row)
+          strip(r, xs.size(), [&](std::size_t i) {
+            return std::make_pair(at(xs[i], ys[row + 1]), at(xs[i], ys[row]));
+          });
+      });
+      const std::pair<Part, int> rows[] = {{kSkirtLow, ys.front()}, {kSkirtHigh, ys.back()}};
+      for (const auto& row : rows) {
+        const int edge_y = row.second;  // not a structured binding: clang 14 cannot capture those
+        part(row.first, [&](Range& r) {
+          strip(r, xs.size(), [&](std::size_t i) {
+            return std::make_pair(at(xs[i], edge_y), lowered(xs[i], edge_y));
+          });
+        });
+      }
+      const std::pair<Part, int> cols[] = {{kSkirtLeft, xs.front()}, {kSkirtRight, xs.back()}};
+      for (const auto& col : cols) {
+        const int edge_x = col.second;
+        part(col.first, [&](Range& r) {
+          strip(r, ys.size(), [&](std::size_t i) {
+            return std::make_pair(at(edge_x, ys[i]), lowered(edge_x, ys[i]));
+          });
+        });
+      }
+    }
+  }
 }
 
 void TerrainPass::upload_lighting(FrameContext& ctx, const Terrain& t) {
@@ -259,6 +259,24 @@ int TerrainPass::select_level(const float (&error)[kLods], float distance, float
   return 0;
 }
 
+float TerrainPass::vertical_error_distance(const glm::vec3& eye, const glm::vec3& lo,
+                                           const glm::vec3& hi) {
+  // A vertical offset e at a point p seen from the eye moves on screen by about
+  // e * sin(beta) * focal / |p - eye|, beta the angle between the view ray and the vertical:
+  // e * focal * h / (h^2 + z^2) with h, z the horizontal and vertical parts of p - eye. Over the
+  // box, h / (h^2 + z^2) is largest at the smallest |z|, and then at h = |z| (or the end of h's
+  // range nearest to it). The return value is the reciprocal of that largest value.
+  const float z = std::max({lo.z - eye.z, eye.z - hi.z, 0.0f});
+  const glm::vec2 e(eye);
+  const float h_min = glm::length(glm::clamp(e, glm::vec2(lo), glm::vec2(hi)) - e);
+  const float far_x = std::max(std::abs(lo.x - e.x), std::abs(hi.x - e.x));
+  const float far_y = std::max(std::abs(lo.y - e.y), std::abs(hi.y - e.y));
+  const float h_max = std::sqrt(far_x * far_x + far_y * far_y);
+  const float h = std::clamp(z, h_min, h_max);
+  if (h <= 0.0f) return 0.0f;  // the eye is in the box
+  return (h * h + z * z) / h;
+}
+
 void TerrainPass::draw(FrameContext& ctx) {
   triangles_ = 0;
   chunks_drawn_ = chunks_culled_ = 0;
@@ -281,58 +299,85 @@ void TerrainPass::draw(FrameContext& ctx) {
       for (int i = 0; i < 6; ++i) outside[i] = outside[i] && d[i] < 0.0f;
     }
     c.visible = std::find(std::begin(outside), std::end(outside), true) == std::end(outside);
-    const glm::vec3 nearest = glm::clamp(eye, lo, hi);
-    c.level = select_level(c.error, glm::length(eye - nearest), ctx.focal_px,
+    const glm::vec3 surface_lo(lo.x, lo.y, t.origin.z + c.hmin);
+    c.level = select_level(c.error, vertical_error_distance(eye, surface_lo, hi), ctx.focal_px,
                            ctx.packet.view.terrain_lod_pixels);
   }
 
+  // Every visible chunk's strips go into one index list for one draw (lavapipe pays about
+  // 20 us per draw call, which at 16x16-quad chunks would cost more than the triangles saved).
+  // A skirt where a visible neighbour is drawn at another level: along the shared edge each
+  // side is within its own geometric error of the true samples, so the crack is at most the sum
+  // of the two errors. The skirt hangs that deep (plus 1% of a cell against rounding), not the
+  // chunk's height range, so where the terrain's outer edge shows it from the side it stays
+  // within the pixel budget.
+  const auto samples = static_cast<std::uint32_t>(grid_w_ * grid_h_);
+  constexpr std::uint32_t kChunkVertices = (kChunkQuads + 1) * (kChunkQuads + 1);
+  frame_indices_.clear();
+  skirt_depths_.assign(chunks_.size(), 0.0f);
+  for (int cy = 0; cy < chunks_y_; ++cy) {
+    for (int cx = 0; cx < chunks_x_; ++cx) {
+      const std::size_t ci = static_cast<std::size_t>(cy) * chunks_x_ + cx;
+      const Chunk& c = chunks_[ci];
+      if (!c.visible) {
+        ++chunks_culled_;
+        continue;
+      }
+      const Chunk* neighbours[4] = {nullptr, nullptr, nullptr, nullptr};  // low, high, left, right
+      const int offsets[4][2] = {{0, -1}, {0, 1}, {-1, 0}, {1, 0}};
+      float neighbour_error = 0.0f;
+      for (int k = 0; k < 4; ++k) {
+        const int nx = cx + offsets[k][0], ny = cy + offsets[k][1];
+        if (nx < 0 || ny < 0 || nx >= chunks_x_ || ny >= chunks_y_) continue;
+        const Chunk& n = chunks_[static_cast<std::size_t>(ny) * chunks_x_ + nx];
+        if (!n.visible || n.level == c.level) continue;
+        neighbours[k] = &n;
+        neighbour_error = std::max(neighbour_error, n.error[n.level]);
+      }
+      skirt_depths_[ci] = c.error[c.level] + neighbour_error + 0.01f * cell;
+      const auto& parts = ranges_[c.shape][c.level];
+      const auto base = static_cast<std::uint32_t>(c.y0 * grid_w_ + c.x0);
+      const auto skirt_base = samples + static_cast<std::uint32_t>(ci) * kChunkVertices;
+      auto append = [&](Part p) {
+        const std::uint32_t* first = patterns_.data() + parts[p].first;
+        for (const std::uint32_t* i = first; i != first + parts[p].count; ++i)
+          frame_indices_.push_back(*i == kRestart   ? kRestart
+                                   : *i & kLowered ? skirt_base + (*i & ~kLowered)
+                                                   : base + *i);
+        triangles_ += parts[p].triangles;
+      };
+      append(kSurface);
+      const Part skirts[4] = {kSkirtLow, kSkirtHigh, kSkirtLeft, kSkirtRight};
+      for (int k = 0; k < 4; ++k)
+        if (neighbours[k]) append(skirts[k]);
+      ++chunks_drawn_;
+    }
+  }
+  if (frame_indices_.empty()) return;
+
+  const Slice indices = ctx.ring.upload(frame_indices_.data(),
+                                        frame_indices_.size() * sizeof(std::uint32_t));
+  const Slice depths =
+      ctx.ring.upload(skirt_depths_.data(), skirt_depths_.size() * sizeof(float));
   vkCmdBindPipeline(ctx.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
   const VkDescriptorBufferInfo heights{heights_.get(), 0, VK_WHOLE_SIZE};
+  const VkDescriptorBufferInfo skirt{depths.buffer, depths.offset, depths.size};
   const VkDescriptorImageInfo image{sampler_.get(),
                                     lighting_src_ ? lighting_.view.get() : placeholder_.view.get(),
                                     VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   const VkWriteDescriptorSet writes[] = {
       buffer_write(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ctx.camera),
-      buffer_write(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &heights), image_write(2, &image)};
+      buffer_write(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &heights), image_write(2, &image),
+      buffer_write(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &skirt)};
   push_descriptors(*device_, ctx.cmd, layout_.get(), writes);
   Push push{{t.origin.x, t.origin.y, t.origin.z, cell},
             {t.albedo.x, t.albedo.y, t.albedo.z, lighting_src_ ? 1.0f : 0.0f},
-            {grid_w_, grid_h_, 0, 0},
-            {0, 0, 0, 0}};
-  const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-  vkCmdPushConstants(ctx.cmd, layout_.get(), stages, 0, sizeof push, &push);
-  vkCmdBindIndexBuffer(ctx.cmd, indices_.get(), 0, VK_INDEX_TYPE_UINT32);
-
-  for (int cy = 0; cy < chunks_y_; ++cy) {
-    for (int cx = 0; cx < chunks_x_; ++cx) {
-      const Chunk& c = chunks_[static_cast<std::size_t>(cy) * chunks_x_ + cx];
-      if (!c.visible) {
-        ++chunks_culled_;
-        continue;
-      }
-      const float skirt[4] = {std::max(c.hmax - c.hmin, cell), 0, 0, 0};
-      vkCmdPushConstants(ctx.cmd, layout_.get(), stages, offsetof(Push, skirt), sizeof skirt,
-                         skirt);
-      const auto& parts = ranges_[c.shape][c.level];
-      const std::int32_t base = c.y0 * grid_w_ + c.x0;
-      auto draw_part = [&](Part p) {
-        vkCmdDrawIndexed(ctx.cmd, parts[p].count, 1, parts[p].first, base, 0);
-        triangles_ += parts[p].triangles;
-      };
-      draw_part(kSurface);
-      // A skirt where a visible neighbour is drawn at another level.
-      auto differs = [&](int nx, int ny) {
-        if (nx < 0 || ny < 0 || nx >= chunks_x_ || ny >= chunks_y_) return false;
-        const Chunk& n = chunks_[static_cast<std::size_t>(ny) * chunks_x_ + nx];
-        return n.visible && n.level != c.level;
-      };
-      if (differs(cx, cy - 1)) draw_part(kSkirtLow);
-      if (differs(cx, cy + 1)) draw_part(kSkirtHigh);
-      if (differs(cx - 1, cy)) draw_part(kSkirtLeft);
-      if (differs(cx + 1, cy)) draw_part(kSkirtRight);
-      ++chunks_drawn_;
-    }
-  }
+            {grid_w_, grid_h_, chunks_x_, kChunkQuads}};
+  vkCmdPushConstants(ctx.cmd, layout_.get(),
+                     VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
+                     &push);
+  vkCmdBindIndexBuffer(ctx.cmd, indices.buffer, indices.offset, VK_INDEX_TYPE_UINT32);
+  vkCmdDrawIndexed(ctx.cmd, static_cast<std::uint32_t>(frame_indices_.size()), 1, 0, 0, 0);
 }
 
 }  // namespace penumbra::render

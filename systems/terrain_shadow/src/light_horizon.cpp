@@ -155,7 +155,8 @@ int clamped_ceil(double v, int lo, int hi) {
 
 }  // namespace
 
-void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, glm::vec2 foot) {
+void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, glm::vec2 foot,
+                             float reach) {
   field_ = &f;
   height_scale_ = height_scale;
   foot_ = foot / f.cell_size;
@@ -185,6 +186,11 @@ void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, g
     const double r_near = side.sign * (side.u_first - u0), r_far = side.sign * (u_last - u0);
     const double lines_per_slope = std::max(1.0, std::ceil(r_far));
     side.lines_per_slope = static_cast<float>(lines_per_slope);
+    // Columns beyond the reach are not swept (the lines stay those of the whole field, so the
+    // horizons within the reach are the same as without it).
+    const double reach_columns = std::ceil(static_cast<double>(reach) / f.cell_size) + 1 - r_near;
+    if (reach_columns < side.columns)
+      side.columns = std::max(1, static_cast<int>(reach_columns));
     // Only the lines that reach the field: v = v0 + r m in [0, size_v - 1] for some r.
     double m_lo = -1, m_hi = 1;
     if (r_near > 0) {

@@ -1,7 +1,6 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 
 #include <algorithm>
-#include <cstring>
 #include <numbers>
 
 #include <tbb/parallel_for.h>
@@ -24,9 +23,10 @@ using Entry = TerrainShadowCache::Entry;
 Entry& entry_for(TerrainShadowCache& cache, ecs::Entity e) {
   for (Entry& x : cache.entries)
     if (x.entity == e) return x;
-  cache.entries.push_back({});
+  cache.entries.emplace_back();
   cache.entries.back().entity = e;
   cache.entries.back().shadowing = std::make_unique<TerrainShadowing<kSystemBands>>(cache.config);
+  cache.entries.back().refresh = LightRefresh(cache.light_refresh);
   return cache.entries.back();
 }
 
@@ -52,35 +52,40 @@ void update_visibility(ecs::World& w) {
   });
 }
 
-// FNV-1a over plain values: lights, the terrain's origin and its visibility stamp.
-struct ValueHash {
-  std::uint64_t h = 1469598103934665603ull;
-  template <class T>
-  void add(const T& v) {
-    unsigned char bytes[sizeof(T)];
-    std::memcpy(bytes, &v, sizeof v);
-    for (unsigned char b : bytes) h = (h ^ b) * 1099511628211ull;
-  }
-};
-
 void update_lights(ecs::World& w) {
   auto& cache = w.resource<TerrainShadowCache>();
   std::vector<SphericalLight> lights;
   w.query<const SphericalLight>().each([&](const SphericalLight& l) { lights.push_back(l); });
+  std::vector<LightSample> samples;
   for (Entry& x : cache.entries) {
     const Terrain* t = w.get<Terrain>(x.entity);
     if (!t || !x.shadowing->ready()) continue;
-    ValueHash hash;
-    for (const SphericalLight& l : lights) hash.add(l);
-    hash.add(t->origin);
-    hash.add(x.visibility_stamp);
-    const std::uint64_t key = hash.h;
-    if (key == x.lights_hash && x.lights_stamp != 0) continue;
-    x.lights_hash = key;
-    x.light_irradiance.assign(x.shadowing->transfer().size(), glm::vec3(0.0f));
+    const assets::HeightField& f = x.shadowing->field();
+    const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
+    if (x.refresh_visibility != x.visibility_stamp || x.refresh_origin != t->origin) {
+      // New terrain or an edit: every tile again (keeping the old values until it comes).
+      std::vector<glm::vec3> positions(n);
+      for (int y = 0; y < f.height; ++y)
+        for (int xx = 0; xx < f.width; ++xx)
+          positions[static_cast<std::size_t>(y) * f.width + xx] = x.shadowing->position(xx, y);
+      x.refresh.reset(f.width, f.height, positions);
+      x.refresh_visibility = x.visibility_stamp;
+      x.refresh_origin = t->origin;
+      if (x.light_irradiance.size() != n) x.light_irradiance.assign(n, glm::vec3(0.0f));
+    }
+    samples.clear();
     for (const SphericalLight& l : lights)
-      x.shadowing->add_spherical_light(l.position - t->origin, l.radius, l.radiance,
-                                       x.light_irradiance);
+      samples.push_back({l.position - t->origin, l.radius, l.radiance});
+    const std::vector<TexelRect>& tiles = x.refresh.plan(samples);
+    if (tiles.empty()) continue;
+    x.refresh.keep_previous(x.light_irradiance);
+    for (const TexelRect& r : tiles)
+      for (int y = r.y0; y < r.y1; ++y)
+        std::fill_n(x.light_irradiance.begin() + static_cast<std::ptrdiff_t>(y) * f.width + r.x0,
+                    r.width(), glm::vec3(0.0f));
+    for (const LightSample& l : samples)
+      x.shadowing->add_spherical_light(l.centre, l.radius, l.radiance, x.light_irradiance, tiles);
+    x.refresh.commit(&x.light_irradiance);
     ++x.lights_stamp;
   }
 }
@@ -107,6 +112,7 @@ void compose(ecs::World& w) {
       glm::vec3 e = (*rgb)[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));  // eq. 4.30
       (*rgb)[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
     });
+    x.refresh.set_reference(*rgb, std::numbers::pi_v<float>);  // what the lights compare against
     out->rgb = std::move(rgb);
     out->width = x.shadowing->field().width;
     out->height = x.shadowing->field().height;
@@ -119,9 +125,12 @@ void compose(ecs::World& w) {
 
 }  // namespace
 
-void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config) {
-  if (!world.try_resource<TerrainShadowCache>())
-    world.emplace_resource<TerrainShadowCache>().config = config;
+void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config,
+                                      const LightRefreshConfig& light_refresh) {
+  if (world.try_resource<TerrainShadowCache>()) return;
+  auto& cache = world.emplace_resource<TerrainShadowCache>();
+  cache.config = config;
+  cache.light_refresh = light_refresh;
 }
 
 void add_terrain_shadow_systems(jobs::Schedule& schedule) {

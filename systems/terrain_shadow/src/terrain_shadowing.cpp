@@ -217,9 +217,8 @@ void TerrainShadowing<N>::shade_environment(const sh::CoeffsRgb<N>& radiance,
 }
 
 template <int N>
-void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float radius,
-                                              const glm::vec3& radiance,
-                                              std::vector<glm::vec3>& irradiance) {
+void TerrainShadowing<N>::validate_light(const glm::vec3& centre, float radius,
+                                         const glm::vec3& radiance) const {
   if (!field_) throw std::invalid_argument("terrain shadowing: add_spherical_light before update");
   if (!(std::isfinite(centre.x) && std::isfinite(centre.y) && std::isfinite(centre.z)) ||
       !std::isfinite(radius) || radius < 0 || !std::isfinite(radiance.x) ||
@@ -227,22 +226,62 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
       radiance.y < 0 || radiance.z < 0)
     throw std::invalid_argument(
         "spherical light: centre, radius and radiance must be finite, radius and radiance >= 0");
+}
+
+template <int N>
+void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float radius,
+                                              const glm::vec3& radiance,
+                                              std::vector<glm::vec3>& irradiance) {
+  validate_light(centre, radius, radiance);
   const assets::HeightField& f = *field_;
   irradiance.resize(static_cast<std::size_t>(f.width) * f.height, glm::vec3(0.0f));
   if (radius == 0) return;
+  std::vector<Span> rows(static_cast<std::size_t>(f.height));
+  for (int y = 0; y < f.height; ++y) rows[static_cast<std::size_t>(y)] = {y, 0, f.width};
   if (config_.light_shading == LightShading::kCapHorizon)
-    add_cap_light(centre, radius, radiance, irradiance);
+    add_cap_light(centre, radius, radiance, irradiance, rows,
+                  std::numeric_limits<float>::infinity());
   else
-    add_sh_light(centre, radius, radiance, irradiance);
+    add_sh_light(centre, radius, radiance, irradiance, rows);
 }
 
-// Rows with a texel outside the light and not wholly behind its tangent plane.
 template <int N>
-bool TerrainShadowing<N>::row_lit(int y, const glm::vec3& centre, float radius) const {
-  for (int x = 0; x < field_->width; ++x) {
-    const glm::vec3 d = centre - position(x, y);
+void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float radius,
+                                              const glm::vec3& radiance,
+                                              std::vector<glm::vec3>& irradiance,
+                                              std::span<const TexelRect> regions) {
+  validate_light(centre, radius, radiance);
+  const assets::HeightField& f = *field_;
+  if (irradiance.size() != static_cast<std::size_t>(f.width) * f.height)
+    throw std::invalid_argument("add_spherical_light: irradiance needs one value per texel");
+  if (radius == 0) return;
+  std::vector<Span> spans;
+  float reach = 0;
+  for (const TexelRect& r : regions) {
+    const TexelRect c{std::max(r.x0, 0), std::max(r.y0, 0), std::min(r.x1, f.width),
+                      std::min(r.y1, f.height)};
+    if (c.empty()) continue;
+    for (int y = c.y0; y < c.y1; ++y) spans.push_back({y, c.x0, c.x1});
+    for (int k = 0; k < 4; ++k) {  // the farthest corner from the light's foot
+      const glm::vec2 corner(static_cast<float>(k & 1 ? c.x1 - 1 : c.x0),
+                             static_cast<float>(k & 2 ? c.y1 - 1 : c.y0));
+      reach = std::max(reach, glm::length(corner * f.cell_size - glm::vec2(centre)));
+    }
+  }
+  if (spans.empty()) return;
+  if (config_.light_shading == LightShading::kCapHorizon)
+    add_cap_light(centre, radius, radiance, irradiance, spans, reach + f.cell_size);
+  else
+    add_sh_light(centre, radius, radiance, irradiance, spans);
+}
+
+// Spans with a texel outside the light and not wholly behind its tangent plane.
+template <int N>
+bool TerrainShadowing<N>::span_lit(const Span& s, const glm::vec3& centre, float radius) const {
+  for (int x = s.x0; x < s.x1; ++x) {
+    const glm::vec3 d = centre - position(x, s.y);
     if (glm::dot(d, d) > radius * radius &&
-        glm::dot(d, normals_[static_cast<std::size_t>(y) * field_->width + x]) > -radius)
+        glm::dot(d, normals_[static_cast<std::size_t>(s.y) * field_->width + x]) > -radius)
       return true;
   }
   return false;
@@ -251,7 +290,8 @@ bool TerrainShadowing<N>::row_lit(int y, const glm::vec3& centre, float radius) 
 template <int N>
 void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
                                        const glm::vec3& radiance,
-                                       std::vector<glm::vec3>& irradiance) {
+                                       std::vector<glm::vec3>& irradiance,
+                                       const std::vector<Span>& spans) {
   const assets::HeightField& f = *field_;
   HorizonParams p;
   p.azimuths = config_.light_azimuths;
@@ -261,20 +301,22 @@ void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
   if (light_horizons_.width != f.width || light_horizons_.height != f.height ||
       light_horizons_.azimuths != p.azimuths)
     light_horizons_.resize(f.width, f.height, p.azimuths);
-  tbb::parallel_for(0, f.height, [&](int y) {
-    if (!row_lit(y, centre, radius)) return;
-    const TexelRect row{0, y, f.width, y + 1};
+  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) {
+    const Span& span = spans[si];
+    const int y = span.y;
+    if (!span_lit(span, centre, radius)) return;
+    const TexelRect row{span.x0, y, span.x1, y + 1};
     // 000 eq. 4.22-4.25 (row by row: rows are the parallel tiles).
     if (config_.light_method == HorizonMethod::kMarch)
       march_horizons(pyramid_, p, config_.march, row, light_horizons_);
     else
-      for (int x = 0; x < f.width; ++x)
+      for (int x = span.x0; x < span.x1; ++x)
         for (int k = 0; k < p.azimuths; ++k)
           light_horizons_.texel(x, y)[k] = ray_horizon(
               f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
               static_cast<float>(2.0 * std::numbers::pi * k / p.azimuths),
               glm::length(glm::vec2(centre.x, centre.y) - glm::vec2(x, y) * f.cell_size), false);
-    for (int x = 0; x < f.width; ++x) {
+    for (int x = span.x0; x < span.x1; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
       const glm::vec3 d = centre - position(x, y);
       if (glm::dot(d, d) <= radius * radius || glm::dot(d, normals_[i]) <= -radius) continue;
@@ -290,16 +332,18 @@ void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
 template <int N>
 void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                                         const glm::vec3& radiance,
-                                        std::vector<glm::vec3>& irradiance) {
+                                        std::vector<glm::vec3>& irradiance,
+                                        const std::vector<Span>& spans, float reach) {
   const assets::HeightField& f = *field_;
   const HorizonMethod method = config_.cap_method;
   std::optional<LightHorizonMarch> marcher;
   if (method == HorizonMethod::kMarch) marcher.emplace(pyramid_, config_.march);
-  if (method == HorizonMethod::kSweep) radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y));
+  if (method == HorizonMethod::kSweep)
+    radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y), reach);
   const bool sweep = method == HorizonMethod::kSweep;
-  tbb::parallel_for(0, f.height, [&](int y) {
-    if (!row_lit(y, centre, radius)) return;
-    for (int x = 0; x < f.width; ++x) {
+  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) {
+    const int y = spans[si].y;
+    for (int x = spans[si].x0; x < spans[si].x1; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
       const glm::vec3 d = centre - position(x, y);
       LightCap cap;

@@ -25,6 +25,7 @@
 
 #include <array>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -36,8 +37,8 @@ namespace penumbra::render {
 
 class TerrainPass {
  public:
-  static constexpr int kChunkQuads = 32;
-  static constexpr int kLods = 6;  // strides 1, 2, 4, ..., 32 (a whole chunk as two triangles)
+  static constexpr int kChunkQuads = 16;
+  static constexpr int kLods = 6;
 
   TerrainPass(Device& device, VkFormat color_format, VkFormat depth_format);
   void prepare(FrameContext& ctx);
@@ -52,6 +53,12 @@ class TerrainPass {
   // at most `max_pixels` (focal_px: pixels per unit of tan(angle)). max_pixels <= 0: level 0.
   static int select_level(const float (&error)[kLods], float distance, float focal_px,
                           float max_pixels);
+  // The distance to use in select_level for a chunk whose surface spans the box [lo, hi] seen
+  // from `eye`: the smallest |p - eye|^2 / h over the box (h: horizontal part of p - eye), so
+  // that a vertical error e shows as at most e * focal_px / distance pixels (a vertical error
+  // seen from above moves less on screen than one seen edge-on). 0 when the eye is in the box.
+  static float vertical_error_distance(const glm::vec3& eye, const glm::vec3& lo,
+                                       const glm::vec3& hi);
   // Geometric error of drawing `field`'s chunk at (x0, y0), of qw x qh quads, with `stride`.
   static float chunk_error(const assets::HeightField& field, int x0, int y0, int qw, int qh,
                            int stride);
@@ -78,13 +85,19 @@ class TerrainPass {
   Unique<VkPipeline> pipeline_;
   Unique<VkSampler> sampler_;
   Image placeholder_;  // 1x1, bound when there is no lighting texture
+  static constexpr std::uint32_t kRestart = 0xFFFFFFFFu;
+  static constexpr std::uint32_t kLowered = 0x40000000u;  // pattern entry: a skirt's lower vertex
+  void build_patterns(int grid_width, const std::vector<std::pair<int, int>>& shapes);
+
   Buffer heights_;
-  Buffer indices_;
   int grid_w_ = 0, grid_h_ = 0;
   std::vector<Chunk> chunks_;
   int chunks_x_ = 0, chunks_y_ = 0;
   // Per chunk shape, level and part (surface; skirts along y0, y0+qh, x0, x0+qw).
   std::vector<std::array<std::array<Range, kParts>, kLods>> ranges_;
+  std::vector<std::uint32_t> patterns_;       // the strips ranges_ points into (build_patterns)
+  std::vector<std::uint32_t> frame_indices_;  // this frame's draw, uploaded through the ring
+  std::vector<float> skirt_depths_;           // this frame's, per chunk (shader binding 3)
   Image lighting_;
   int lit_w_ = 0, lit_h_ = 0;
   std::shared_ptr<const assets::HeightField> heights_src_;

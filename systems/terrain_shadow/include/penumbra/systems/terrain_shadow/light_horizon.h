@@ -41,6 +41,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -94,8 +95,11 @@ class RadialHorizonSweep {
  public:
   // `foot`: plane position (metres, relative to sample (0, 0)); any finite point, inside the
   // field or not. Inputs are not validated (validate_horizon_input). Keeps a reference to
-  // `field` for horizon().
-  void run(const assets::HeightField& field, float height_scale, glm::vec2 foot);
+  // `field` for horizon(). `reach` (metres): texels farther than that along the major axis of
+  // their side are not swept (horizon() gives -pi/2 there); those within it get what a sweep
+  // without a reach gives, bit for bit.
+  void run(const assets::HeightField& field, float height_scale, glm::vec2 foot,
+           float reach = std::numeric_limits<float>::infinity());
   // Elevation (radians) of the horizon of texel (x, y) towards the foot; -pi/2 when no terrain
   // lies in between (the foot within a column of the texel, or outside the field).
   float horizon(int x, int y) const;

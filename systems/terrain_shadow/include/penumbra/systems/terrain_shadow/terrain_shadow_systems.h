@@ -4,8 +4,9 @@
 //       Per Terrain entity: a new height field -> full update; version + 1 with an `edited`
 //       rectangle -> update_edit (only what the edit can change); unchanged -> nothing.
 //   terrain_shadow.lights      reads SphericalLight, Terrain, writes TerrainShadowCache
-//       Sum of the spherical lights' irradiance per texel; recomputed only when a light (its
-//       count or any component value) or the terrain changed.
+//       Sum of the spherical lights' irradiance per texel, re-shaded per tile: only the tiles
+//       where a change of the lights could show, worst first, at most a budget of texels per
+//       frame (light_refresh.h); every tile again, within the budget, when the terrain changed.
 //   terrain_shadow.compose     reads EnvironmentLight, TerrainShadowCache, writes
 //       TerrainLighting: albedo-free outgoing radiance (E_env + E_lights) / pi per texel,
 //       published as a new shared array (render/packet.h) when any input changed. The
@@ -26,6 +27,7 @@
 #include "penumbra/ecs/entity.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
+#include "penumbra/systems/terrain_shadow/light_refresh.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
 namespace penumbra::terrain_shadow {
@@ -45,15 +47,19 @@ struct TerrainShadowCache {
     std::uint64_t composed_visibility = ~0ull, composed_lights = ~0ull;
     std::uint64_t composed_environment = ~0ull;
     float composed_rotation = 0;
-    std::uint64_t lights_hash = 0;
+    LightRefresh refresh;                      // which tiles the lights re-shade
+    std::uint64_t refresh_visibility = ~0ull;  // visibility_stamp the refresh tiles were made for
+    glm::vec3 refresh_origin{0.0f};
     UpdateStats last_update;  // of the latest visibility update (for overlays, benchmarks)
   };
   TerrainShadowConfig config;
+  LightRefreshConfig light_refresh;
   std::vector<Entry> entries;
 };
 
 // Adds the TerrainShadowCache resource (with `config`) when absent.
-void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config = {});
+void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config = {},
+                                      const LightRefreshConfig& light_refresh = {});
 
 // Registers the three systems above.
 void add_terrain_shadow_systems(jobs::Schedule& schedule);

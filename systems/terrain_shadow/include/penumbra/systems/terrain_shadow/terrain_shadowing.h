@@ -46,6 +46,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -145,15 +146,26 @@ class TerrainShadowing {
   // negative input.
   void add_spherical_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
                            std::vector<glm::vec3>& irradiance);
+  // The same for the texels of `regions` only (irradiance must already have one value per
+  // texel; others are left as they are): what add_spherical_light adds there, bit for bit.
+  // With kCapHorizon and kSweep the light's horizon sweep reaches only as far as the farthest
+  // region (light_refresh.h).
+  void add_spherical_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
+                           std::vector<glm::vec3>& irradiance, std::span<const TexelRect> regions);
 
  private:
   void compute_normals(const TexelRect& r);
   void compute_transfer_rows(const std::vector<unsigned char>* mask);
-  bool row_lit(int y, const glm::vec3& centre, float radius) const;
+  struct Span {  // texels x0 <= x < x1 of row y
+    int y, x0, x1;
+  };
+  void validate_light(const glm::vec3& centre, float radius, const glm::vec3& radiance) const;
+  bool span_lit(const Span& s, const glm::vec3& centre, float radius) const;
   void add_sh_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
-                    std::vector<glm::vec3>& irradiance);
+                    std::vector<glm::vec3>& irradiance, const std::vector<Span>& spans);
   void add_cap_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
-                     std::vector<glm::vec3>& irradiance);
+                     std::vector<glm::vec3>& irradiance, const std::vector<Span>& spans,
+                     float reach);
 
   TerrainShadowConfig config_;
   WedgeTable<N> hemisphere_;
