@@ -22,7 +22,14 @@ struct Options {
   int width = 960, height = 540;
   std::size_t points = 50'000;  // particles drawn at most (every k-th); 0: all
   float terrain_lod_pixels = -1;  // < 0: the scene's own (render::ViewSettings)
+  std::string bench;              // headless: write the run's record (play_record.h) here
+  std::string bench_splits;       // "T:L,...": also run these splits (threads, LP_NUM_THREADS)
+  int empty_frames = 60;          // --bench: frames of an empty packet, the baseline
 };
+
+// Rasteriser threads the main job gives lavapipe when LP_NUM_THREADS is unset (llvmpipe's own
+// default is one per core); chosen by measurement on 2 cores (docs/play.md).
+int default_lavapipe_threads();
 
 // Both print the per-system CPU table and the per-pass GPU table; return main()'s status.
 int run_headless(const Options& options);

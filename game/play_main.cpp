@@ -3,7 +3,8 @@
 //   penumbra_play [--scene terrain|sample] [--data DIR] [--frames N] [--threads T] [--particles N]
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
-//                 [--device NAME] [--size WxH] [--points N]
+//                 [--device NAME] [--size WxH] [--points N] [--terrain-lod PX]
+//                 [--bench FILE [--bench-splits T:L,...]]
 //
 // --scene terrain (default): the elevation model lit by the terrain shadow system under a
 // rotating HDR sky, a moving spherical light and periodic brush edits (terrain_demo.h);
@@ -12,6 +13,12 @@
 // overlay, until it is closed (or N frames). Otherwise offscreen: N frames (default 300), K
 // screenshots written to DIR as PNG. Both print the per-system CPU timing table and the
 // per-pass GPU timing table. --points N draws at most N particles (every k-th; 0: all).
+// --terrain-lod PX overrides the terrain's pixel budget (0: full detail). --bench FILE
+// (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
+// and the image against full detail; --bench-splits runs the same scene again per thread split
+// (T simulation threads, L = LP_NUM_THREADS) first and includes those records.
+// Threads: --threads T for the job graph (0, the default: one per core); LP_NUM_THREADS, when
+// unset, is set by play::default_lavapipe_threads() before the renderer starts (play.h).
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -30,7 +37,7 @@ using penumbra::play::Options;
                "[--frames N] [--threads T] "
                "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
                "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
-               "[--points N]\n",
+               "[--points N] [--terrain-lod PX] [--bench FILE [--bench-splits T:L,...]]\n",
                error);
   std::exit(2);
 }
@@ -85,7 +92,11 @@ Options parse(int argc, char** argv) {
       o.terrain_lod_pixels = std::strtof(v.c_str(), &end);
       if (end == v.c_str() || *end != '\0' || !(o.terrain_lod_pixels >= 0))
         usage(("--terrain-lod needs pixels >= 0, got '" + v + "'").c_str());
-    } else if (a == "--device")
+    } else if (a == "--bench")
+      o.bench = value();
+    else if (a == "--bench-splits")
+      o.bench_splits = value();
+    else if (a == "--device")
       o.device = value();
     else if (a == "--size") {
       const std::string v = value();
@@ -102,6 +113,9 @@ Options parse(int argc, char** argv) {
 int main(int argc, char** argv) {
   using namespace penumbra;
   Options opt = parse(argc, argv);
+  // llvmpipe reads LP_NUM_THREADS when the device is created: the CPU split (docs/play.md).
+  if (!std::getenv("LP_NUM_THREADS"))
+    setenv("LP_NUM_THREADS", std::to_string(play::default_lavapipe_threads()).c_str(), 0);
   try {
     if (!opt.render) return play::run_simulation_only(opt);
     if (!opt.headless && render::Glfw::display_available()) return play::run_window(opt);

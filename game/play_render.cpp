@@ -8,6 +8,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <GLFW/glfw3.h>
@@ -25,6 +26,8 @@
 #include "penumbra/render/window_target.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "play.h"
+#include "play_record.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 
 namespace penumbra::play {
 namespace {
@@ -79,9 +82,24 @@ struct Sim {
     executor.set_trace_tasks(!o.trace.empty());
   }
 
+  // Light re-shading over the timed frames (terrain demo).
+  std::size_t light_frames = 0, light_tiles_total = 0, light_tiles = 0;
+  double light_worst_observed = 0, light_worst_deferred = 0;
+
   const jobs::FrameStats& step(int frame, int frames) {
     const jobs::FrameStats& stats = executor.run(schedule, world);
-    if (frame >= warmup) table.add(stats);
+    if (frame >= warmup) {
+      table.add(stats);
+      if (const auto* cache = world.try_resource<terrain_shadow::TerrainShadowCache>())
+        for (const auto& e : cache->entries) {
+          const terrain_shadow::LightRefreshStats& r = e.refresh.stats();
+          ++light_frames;
+          light_tiles = r.tiles;
+          light_tiles_total += r.refreshed;
+          light_worst_observed = std::max(light_worst_observed, double(r.worst_observed));
+          light_worst_deferred = std::max(light_worst_deferred, double(r.worst_deferred));
+        }
+    }
     if (!options.trace.empty() && frames > 0 && frame >= frames - 3) traced.push_back(stats);
     return stats;
   }
@@ -123,14 +141,75 @@ std::string screenshot_path(const Options& o, const std::string& name) {
   return (std::filesystem::path(o.out) / name).string();
 }
 
-void print_frame_summary(double wall_ms, double sim_ms, double submit_ms, std::size_t n) {
-  if (n == 0) return;
-  const double k = 1.0 / static_cast<double>(n);
+void print_frame_summary(const std::vector<FrameSample>& samples, int sim_threads) {
+  if (samples.empty()) return;
+  const FrameSummary s = summarize(samples);
+  const char* lp = std::getenv("LP_NUM_THREADS");
   std::printf(
-      "frame (wall): %.2f ms = %.1f fps  [simulation %.2f ms, render record+submit %.2f ms]\n",
-      wall_ms * k, 1000.0 / (wall_ms * k), sim_ms * k, submit_ms * k);
+      "frame (wall): %.2f ms = %.1f fps, median %.2f, p95 %.2f  [simulation %.2f ms | render "
+      "record+submit %.2f ms]  threads: simulation %d, lavapipe %s\n",
+      s.mean_ms, s.fps, s.median_ms, s.p95_ms, s.sim_ms, s.render_ms, sim_threads,
+      lp ? lp : "(default)");
+}
+
+// Median frame time of an empty packet (clear + tonemap), the same-run baseline of --bench.
+double empty_frame_ms(render::Renderer& renderer, render::Target& target, int frames) {
+  render::RenderPacket empty;
+  empty.view.sky = empty.view.terrain = empty.view.meshes = empty.view.debug = false;
+  std::vector<double> ms;
+  for (int f = 0; f < frames + 5; ++f) {
+    const auto t0 = Clock::now();
+    renderer.render(empty, target);
+    if (f >= 5) ms.push_back(ms_since(t0));
+  }
+  renderer.wait_idle();
+  if (ms.empty()) return 0;
+  std::sort(ms.begin(), ms.end());
+  return ms[ms.size() / 2];
+}
+
+// Other thread splits of the same run, as child processes; their JSON records.
+std::vector<std::string> run_splits(const Options& o) {
+  std::vector<std::string> records;
+  std::size_t start = 0;
+  while (start < o.bench_splits.size()) {
+    std::size_t end = o.bench_splits.find(',', start);
+    if (end == std::string::npos) end = o.bench_splits.size();
+    const std::string split = o.bench_splits.substr(start, end - start);
+    start = end + 1;
+    int threads = 0, lp = 0;
+    if (std::sscanf(split.c_str(), "%d:%d", &threads, &lp) != 2 || threads < 1 || lp < 0) {
+      std::fprintf(stderr, "penumbra_play: --bench-splits needs T:L pairs, got '%s'\n",
+                   split.c_str());
+      continue;
+    }
+    const std::string file = o.bench + ".split";
+    std::vector<std::string> args = {"--headless", "--screenshots", "0", "--scene", o.scene,
+                                     "--frames", std::to_string(o.frames > 0 ? o.frames : 300),
+                                     "--threads", std::to_string(threads), "--size",
+                                     std::to_string(o.width) + "x" + std::to_string(o.height),
+                                     "--bench", file};
+    if (!o.data.empty()) args.insert(args.end(), {"--data", o.data});
+    if (!o.device.empty()) args.insert(args.end(), {"--device", o.device});
+    if (o.terrain_lod_pixels >= 0)
+      args.insert(args.end(), {"--terrain-lod", std::to_string(o.terrain_lod_pixels)});
+    std::printf("penumbra: split %d simulation threads, LP_NUM_THREADS=%d\n", threads, lp);
+    std::fflush(stdout);
+    if (run_child(args, "LP_NUM_THREADS=" + std::to_string(lp)) != 0) {
+      std::fprintf(stderr, "penumbra_play: split %s failed\n", split.c_str());
+      continue;
+    }
+    std::ifstream in(file);
+    records.emplace_back(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    std::filesystem::remove(file);
+  }
+  return records;
 }
 }  // namespace
+
+int default_lavapipe_threads() {
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 int run_simulation_only(const Options& o) {
   Sim sim(o, /*with_render=*/false);
@@ -141,6 +220,11 @@ int run_simulation_only(const Options& o) {
 }
 
 int run_headless(const Options& o) {
+  PlayRecord record;
+  if (!o.bench.empty()) {
+    describe_machine(record);  // the load average before the splits and this run add to it
+    record.splits = run_splits(o);
+  }
   Sim sim(o, /*with_render=*/true);
   const int frames = o.frames > 0 ? o.frames : 300;
   sim.warmup = frames > 10 ? 5 : 0;
@@ -159,9 +243,10 @@ int run_headless(const Options& o) {
     for (int i = 0; i < k; ++i)
       shots.push_back(k == 1 ? frames - 1 : sim.warmup + (frames - 1 - sim.warmup) * i / (k - 1));
   }
+  if (!o.bench.empty()) record.empty_frame_ms = empty_frame_ms(renderer, target, o.empty_frames);
   std::vector<std::string> written;
-  double wall = 0, sim_ms = 0, submit = 0;
-  std::size_t timed = 0;
+  std::vector<FrameSample> samples;
+  double triangles = 0;
   for (int f = 0; f < frames; ++f) {
     if (f == sim.warmup) {
       renderer.wait_idle();
@@ -184,26 +269,71 @@ int run_headless(const Options& o) {
     }
     renderer.render(packet, target);
     if (f >= sim.warmup) {
-      submit += ms_since(t1);
-      sim_ms += t_sim;
-      wall += ms_since(t0);
-      ++timed;
+      samples.push_back({ms_since(t0), t_sim, ms_since(t1)});
+      triangles += static_cast<double>(renderer.stats().terrain_triangles);
     }
   }
   renderer.wait_idle();
+  if (!o.bench.empty()) {
+    // The last frame at the scene's level of detail and at full detail, compared.
+    render::RenderPacket packet = sim.world.resource<render::RenderPacket>();
+    const auto lod = renderer.capture(packet, target);
+    packet.view.terrain_lod_pixels = 0;
+    const auto full = renderer.capture(packet, target);
+    record.terrain_triangles_full = renderer.stats().terrain_triangles;
+    if (lod && full) {
+      const render::ImageComparison c = render::compare_images(*lod, *full, 24);
+      record.lod_differing_fraction = c.fraction();
+      record.lod_max_difference = c.max_difference;
+    }
+    record.terrain_lod_pixels = sim.world.resource<render::RenderPacket>().view.terrain_lod_pixels;
+  }
   const std::string what = ", renderer: " + device.name() + " " + std::to_string(o.width) + "x" +
                            std::to_string(o.height) + " offscreen";
   if (!sim.report(frames, what.c_str())) return 1;
   renderer.pass_table().print(std::cout);
-  print_frame_summary(wall, sim_ms, submit, timed);
+  print_frame_summary(samples, sim.executor.threads());
   const auto stats = renderer.stats();
   std::printf("drawn per frame: %llu terrain + %llu mesh triangles, %zu points; upload %.2f MiB\n",
               static_cast<unsigned long long>(stats.terrain_triangles),
               static_cast<unsigned long long>(stats.mesh_triangles),
               sim.world.resource<render::RenderPacket>().points.size(),
               static_cast<double>(stats.uploaded) / (1 << 20));
+  if (sim.light_frames > 0)
+    std::printf("lights: %.1f of %zu tiles re-shaded per frame; largest change %.2f x tolerance "
+                "observed, %.2f x left waiting (bound)\n",
+                static_cast<double>(sim.light_tiles_total) / sim.light_frames, sim.light_tiles,
+                sim.light_worst_observed, sim.light_worst_deferred);
   for (const std::string& p : written) std::printf("screenshot: %s\n", p.c_str());
   if (instance.validation()) std::printf("validation: %s\n", instance.messages().summary().c_str());
+  if (!o.bench.empty()) {
+    record.scene = o.scene;
+    record.device = device.name();
+    record.width = o.width;
+    record.height = o.height;
+    record.frames = frames;
+    record.warmup = sim.warmup;
+    record.sim_threads = sim.executor.threads();
+    const char* lp = std::getenv("LP_NUM_THREADS");
+    record.lavapipe_threads = lp ? lp : "";
+    record.samples = samples;
+    for (const render::PassTimingTable::Row& row : renderer.pass_table().rows())
+      record.gpu_pass_ms[row.name] = renderer.pass_table().mean_ms(row.name);
+    record.gpu_frame_ms = renderer.pass_table().mean_total_ms();
+    record.terrain_triangles = samples.empty() ? 0 : triangles / samples.size();
+    record.light_tiles = sim.light_tiles;
+    if (sim.light_frames > 0)
+      record.light_tiles_per_frame = static_cast<double>(sim.light_tiles_total) / sim.light_frames;
+    record.light_worst_observed = sim.light_worst_observed;
+    record.light_worst_deferred = sim.light_worst_deferred;
+    std::filesystem::path out(o.bench);
+    if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+    if (!write_file(o.bench, to_json(record))) {
+      std::fprintf(stderr, "penumbra_play: cannot write %s\n", o.bench.c_str());
+      return 1;
+    }
+    std::printf("bench record: %s\n", o.bench.c_str());
+  }
   return 0;
 }
 
@@ -227,8 +357,7 @@ int run_window(const Options& o) {
 
   render::OverlayStats stats;
   stats.device = device.name();
-  double wall = 0, sim_ms = 0, submit = 0;
-  std::size_t timed = 0;
+  std::vector<FrameSample> samples;
   int f = 0;
   auto last = Clock::now();
   for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
@@ -262,12 +391,7 @@ int run_window(const Options& o) {
     packet.view = settings.view;  // the toggles apply to this frame already
     const auto t1 = Clock::now();
     renderer.render(packet, target, {false, &overlay});
-    if (f >= sim.warmup) {
-      submit += ms_since(t1);
-      sim_ms += t_sim;
-      wall += ms_since(t0);
-      ++timed;
-    }
+    if (f >= sim.warmup) samples.push_back({ms_since(t0), t_sim, ms_since(t1)});
   }
   std::string shot;
   if (!o.out.empty()) {
@@ -282,7 +406,7 @@ int run_window(const Options& o) {
   const std::string what = ", renderer: " + device.name() + " window";
   if (!sim.report(f, what.c_str())) return 1;
   renderer.pass_table().print(std::cout);
-  print_frame_summary(wall, sim_ms, submit, timed);
+  print_frame_summary(samples, sim.executor.threads());
   if (!shot.empty()) std::printf("screenshot: %s\n", shot.c_str());
   return 0;
 }

@@ -23,6 +23,31 @@ TEST(TerrainPass, SelectsTheCoarsestLevelWithinThePixelBudget) {
   EXPECT_EQ(TerrainPass::select_level(error, 10000.0f, focal, 0.0f), 0) << "LOD off";
 }
 
+// The distance select_level divides by: a vertical error seen from straight above moves little on
+// screen; seen level with the chunk, as much as at its nearest distance.
+TEST(TerrainPass, VerticalErrorShowsLessFromAbove) {
+  const glm::vec3 lo(-1.0f, -1.0f, 0.0f), hi(1.0f, 1.0f, 2.0f);
+  const float above = TerrainPass::vertical_error_distance({0, 0, 100}, lo, hi);
+  EXPECT_NEAR(above, (2.0f + 98.0f * 98.0f) / std::sqrt(2.0f), 1e-2f) << "h^2 + z^2 over h, corner";
+  EXPECT_NEAR(TerrainPass::vertical_error_distance({10, 0, 1}, lo, hi), 9.0f, 1e-5f) << "level";
+  EXPECT_EQ(TerrainPass::vertical_error_distance({0, 0, 1}, lo, hi), 0.0f) << "inside";
+  // At 45 degrees down (h = z) the factor h / (h^2 + z^2) = 1 / (2 h) is the largest for that z.
+  EXPECT_NEAR(TerrainPass::vertical_error_distance({11, 0, 12}, lo, hi), 20.0f, 1e-4f);
+  // Never farther than the distance to the far corner would allow: a true bound of the ratio.
+  for (float z : {3.0f, 10.0f, 50.0f})
+    for (float x : {0.0f, 5.0f, 30.0f}) {
+      const glm::vec3 eye(x, 0.5f, z);
+      const float d = TerrainPass::vertical_error_distance(eye, lo, hi);
+      for (float px : {-1.0f, 0.0f, 1.0f})
+        for (float py : {-1.0f, 1.0f})
+          for (float pz : {0.0f, 2.0f}) {
+            const glm::vec3 v = glm::vec3(px, py, pz) - eye;
+            const float h = std::hypot(v.x, v.y);
+            EXPECT_LE(h / glm::dot(v, v), 1.0f / d * 1.0001f) << x << " " << z;
+          }
+    }
+}
+
 TEST(TerrainPass, GeometricErrorIsZeroOnPlanesAndGrowsWithStride) {
   assets::HeightField plane;
   plane.width = plane.height = 33;
@@ -63,7 +88,7 @@ TEST(TerrainPass, LevelOfDetailMatchesFullDetailWithoutCracks) {
   EXPECT_LT(c.fraction(), 0.01) << c.differing << " pixels differ";
   EXPECT_LT(lod_stats.terrain_triangles * 2, full_stats.terrain_triangles)
       << lod_stats.terrain_triangles << " vs " << full_stats.terrain_triangles;
-  EXPECT_EQ(lod_stats.terrain_chunks_drawn + lod_stats.terrain_chunks_culled, 16u);
+  EXPECT_EQ(lod_stats.terrain_chunks_drawn + lod_stats.terrain_chunks_culled, 64u);
   if (c.fraction() >= 0.01) {
     write_png(test::output_dir() + "/terrain_lod.png", *lod);
     write_png(test::output_dir() + "/terrain_lod.diff.png", c.diff);

@@ -44,6 +44,15 @@ struct Fixture {
     add_terrain_shadow_systems(schedule);
   }
   void frame() { executor.run(schedule, world); }
+  // Frames until the lights are shaded everywhere (a quarter of the tiles per frame at most).
+  void settle() {
+    for (int i = 0; i < 8; ++i) {
+      const std::uint64_t stamp = entry().lights_stamp;
+      frame();
+      if (entry().lights_stamp == stamp) return;
+    }
+    FAIL() << "the lights did not settle";
+  }
   const TerrainShadowCache::Entry& entry() {
     return world.resource<TerrainShadowCache>().entries.at(0);
   }
@@ -53,6 +62,7 @@ struct Fixture {
 TEST(TerrainShadowSystems, SkipWhatDidNotChange) {
   Fixture f;
   f.frame();
+  f.settle();
   ASSERT_TRUE(f.lighting().rgb);
   EXPECT_EQ(f.lighting().width, 32);
   EXPECT_TRUE(f.entry().last_update.full);
@@ -67,6 +77,7 @@ TEST(TerrainShadowSystems, SkipWhatDidNotChange) {
 TEST(TerrainShadowSystems, MovingLightReshadesWithoutEnvironmentVisibility) {
   Fixture f;
   f.frame();
+  f.settle();
   const auto visibility = f.entry().visibility_stamp, lights = f.entry().lights_stamp;
   const auto before = f.lighting().rgb;
   f.world.get_mut<SphericalLight>(f.light)->position.x += 10.0f;
@@ -77,9 +88,41 @@ TEST(TerrainShadowSystems, MovingLightReshadesWithoutEnvironmentVisibility) {
   EXPECT_NE(*f.lighting().rgb, *before);
 }
 
+// A light that moved re-shades at most the budget (a quarter of the 4 tiles) per frame, then,
+// once it stops, converges to a whole shading at its final place, bit for bit; a move too small
+// to show re-shades nothing.
+TEST(TerrainShadowSystems, MovedLightIsSpreadOverFramesAndConverges) {
+  Fixture f;
+  for (int i = 0; i < 4; ++i) f.frame();  // the first shading, a tile per frame
+  EXPECT_EQ(f.entry().refresh.stats().tiles, 4u);
+  f.world.get_mut<SphericalLight>(f.light)->position += glm::vec3(7.0f, -3.0f, -20.0f);
+  int frames = 0;
+  for (std::uint64_t stamp = f.entry().lights_stamp; frames < 20; ++frames) {
+    f.frame();
+    EXPECT_LE(f.entry().refresh.stats().refreshed, 1u);
+    if (f.entry().lights_stamp == stamp) break;
+    stamp = f.entry().lights_stamp;
+  }
+  EXPECT_GE(frames, 2);
+  EXPECT_LE(frames, 4);
+  TerrainShadowing<kSystemBands> whole(f.world.resource<TerrainShadowCache>().config);
+  const Terrain& t = *f.world.get<Terrain>(f.terrain);
+  whole.update(t.heights, t.height_scale);
+  std::vector<glm::vec3> expected;
+  const SphericalLight& l = *f.world.get<SphericalLight>(f.light);
+  whole.add_spherical_light(l.position - t.origin, l.radius, l.radiance, expected);
+  EXPECT_EQ(f.entry().light_irradiance, expected);
+
+  const auto stamp = f.entry().lights_stamp;
+  f.world.get_mut<SphericalLight>(f.light)->position.x += 1e-4f;
+  f.frame();
+  EXPECT_EQ(f.entry().lights_stamp, stamp) << "a 0.1 mm move does not show";
+}
+
 TEST(TerrainShadowSystems, RotatingEnvironmentReshadesFromStoredTransfer) {
   Fixture f;
   f.frame();
+  f.settle();
   const auto visibility = f.entry().visibility_stamp, lights = f.entry().lights_stamp;
   const auto before = f.lighting().rgb;
   f.world.resource<EnvironmentLight>().rotation_z = std::numbers::pi_v<float> / 2;

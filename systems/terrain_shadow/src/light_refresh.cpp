@@ -35,6 +35,9 @@ float light_irradiance_bound(const LightSample& light, float distance) {
 }
 
 float light_change_bound(const LightSample& before, const LightSample& after, float distance) {
+  if (before.centre == after.centre && before.radius == after.radius &&
+      before.radiance == after.radiance)
+    return 0.0f;
   const float l_max = std::max(luminance(before.radiance), luminance(after.radiance));
   const float dl = luminance(glm::abs(after.radiance - before.radiance));
   const float ceiling = kPi * l_max;  // |E1 - E0| <= max(E0, E1) <= pi L_max

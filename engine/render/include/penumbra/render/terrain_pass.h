@@ -2,21 +2,23 @@
 // per-texel lighting texture times the albedo.
 //
 // Chunks and level of detail (geomipmapping): the grid is cut into chunks of kChunkQuads x
-// kChunkQuads quads. At upload, each chunk gets, for every vertex stride s in {1, 2, ..., 32},
+// kChunkQuads quads. At upload, each chunk gets, for every vertex stride s in {1, 2, ..., 16},
 // its geometric error: the largest vertical distance between a height sample and the surface
 // drawn with stride s. Each frame, chunks outside the view frustum are skipped and every other
-// chunk is drawn with the coarsest stride whose error, seen from the chunk's nearest point,
-// projects to at most ViewSettings::terrain_lod_pixels (0: always full detail). The lighting is
-// a texture sampled per pixel, so coarser geometry keeps the full lighting detail; only the
-// shape moves, by less than that many pixels. Between two visible neighbours of different
-// strides, both draw a vertical skirt along their shared edge (as deep as the chunk's height
-// range), which covers the crack. On lavapipe the cost per triangle (setup and binning on one
-// thread) dominates the terrain's time, so this divides it several fold (render benchmark).
+// chunk is drawn with the coarsest stride whose error, seen from the camera, projects to at most
+// ViewSettings::terrain_lod_pixels (0: always full detail). The projection accounts for the
+// error being vertical (vertical_error_distance): seen from above it moves less on screen than
+// seen edge-on. The lighting is a texture sampled per pixel, so coarser geometry keeps the full
+// lighting detail; only the shape moves, by less than that many pixels (the budget and why:
+// docs/play.md). Between two visible neighbours of different strides, both draw a vertical
+// skirt along their shared edge, as deep as the two errors together (the largest the crack can
+// be), which covers the crack. All visible chunks go into one index list and one draw call per
+// frame: on lavapipe a draw costs about 20 us, and small chunks adapt better to rough terrain.
 //
 // GPU data, re-uploaded only when the packet's pointers change: heights (storage buffer, one
-// float per sample; vertices come from gl_VertexIndex), the index patterns (one triangle-strip
-// pattern per chunk shape and stride, shared by all chunks through vertexOffset; rebuilt only
-// when the grid size changes) and the lighting texture (RGBA16F). Same-size updates are copied
+// float per sample; vertices come from gl_VertexIndex) and the lighting texture (RGBA16F). Per
+// frame, through the upload ring: the index list (from CPU-side triangle-strip patterns per
+// chunk shape and stride, rebuilt only when the grid size changes) and the chunks' skirt depths. Same-size updates are copied
 // in place (ordered after the previous frame's reads by barriers); size changes create new
 // resources and retire the old ones.
 //

@@ -1,0 +1,86 @@
+#!/usr/bin/env python3
+"""Writes the main job's performance tables from the `play` benchmark record.
+
+    ./penumbra bench play                 # -> build/bench/play.json
+    python3 scripts/play_table.py [build/bench/play.json] [--write README.md docs/play.md]
+
+Prints the tables (markdown); with --write, replaces the text between the markers
+<!-- play-table:begin --> and <!-- play-table:end --> in each file named. Every number comes from
+the record, measured in one run: no figure in those tables is typed by hand.
+"""
+import json
+import sys
+
+BEGIN, END = "<!-- play-table:begin -->", "<!-- play-table:end -->"
+
+
+def tables(r):
+    f, m, t, lights = r["frame"], r["machine"], r["terrain"], r["lights"]
+    th = r["threads"]
+    lines = [
+        f"Measured {r['date']} on {m['cpu']} ({m['cores']} cores), load average "
+        f"{m['load_average_start']:.2f} at the start; {r['run']['device']}, "
+        f"{r['run']['width']}x{r['run']['height']} headless, {r['run']['timed_frames']} timed frames "
+        f"(`./penumbra bench play`, build/bench/play.json).",
+        "",
+        "| main job (terrain demo) | measured | goal |",
+        "| --- | --- | --- |",
+        f"| frame rate | {f['fps']:.1f} fps (mean {f['mean_ms']:.2f} ms) | >= 30 fps |",
+        f"| frame time median / p95 | {f['median_ms']:.2f} / {f['p95_ms']:.2f} ms | - |",
+        f"| empty frame, same run (clear + tonemap) | {f['empty_frame_ms']:.2f} ms | - |",
+        f"| median frame / empty frame | {f['x_empty_frame']:.2f}x | <= 4x |",
+        f"| simulation / render record + submit (mean) | {f['simulation_ms']:.2f} / "
+        f"{f['render_ms']:.2f} ms | - |",
+        f"| GPU frame (timestamps) | {f['gpu_frame_ms']:.2f} ms | - |",
+        f"| terrain triangles per frame | {t['triangles']:,.0f} (full detail: "
+        f"{t['triangles_full_detail']:,}) at {t['lod_pixels']:g} px | - |",
+        f"| last frame against full detail | {100 * t['lod_differing_fraction']:.2f}% of pixels off "
+        f"by more than 24/255 (largest {t['lod_max_difference']}) | - |",
+        f"| light tiles re-shaded per frame | {lights['tiles_per_frame']:.1f} of {lights['tiles']} | "
+        f"<= 1/4 |",
+        f"| threads | simulation {th['simulation']}, lavapipe {th['lavapipe'] or 'default'} | - |",
+    ]
+    passes = r.get("gpu_pass_ms", {})
+    if passes:
+        lines += ["", "GPU passes (mean ms): " + ", ".join(
+            f"{k} {v:.2f}" for k, v in sorted(passes.items(), key=lambda kv: -kv[1]))]
+    splits = r.get("splits", [])
+    if splits:
+        lines += ["", "| thread split (simulation : LP_NUM_THREADS) | fps | median ms | p95 ms | "
+                  "simulation ms | render ms |", "| --- | --- | --- | --- | --- | --- |"]
+        for s in splits:
+            sf, st = s["frame"], s["threads"]
+            lines.append(f"| {st['simulation']} : {st['lavapipe'] or 'default'} | {sf['fps']:.1f} | "
+                         f"{sf['median_ms']:.2f} | {sf['p95_ms']:.2f} | {sf['simulation_ms']:.2f} | "
+                         f"{sf['render_ms']:.2f} |")
+    return "\n".join(lines)
+
+
+def main(argv):
+    path = "build/bench/play.json"
+    targets = []
+    if argv and not argv[0].startswith("--"):
+        path = argv.pop(0)
+    if argv[:1] == ["--write"]:
+        targets = argv[1:]
+    with open(path) as f:
+        record = json.load(f)
+    if record.get("format") != "penumbra-play" or record.get("version") != 1:
+        sys.exit(f"{path}: not a penumbra-play version 1 record")
+    text = tables(record)
+    print(text)
+    for target in targets:
+        with open(target) as f:
+            doc = f.read()
+        if BEGIN not in doc or END not in doc:
+            sys.exit(f"{target}: no {BEGIN} ... {END} markers")
+        head, rest = doc.split(BEGIN, 1)
+        _, tail = rest.split(END, 1)
+        with open(target + ".tmp", "w") as f:
+            f.write(head + BEGIN + "\n" + text + "\n" + END + tail)
+        import os
+        os.replace(target + ".tmp", target)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
