@@ -45,7 +45,8 @@ TEST(Golden, TerrainShadowedByTheTerrainShadowSystem) {
   terrain_shadow::add_terrain_shadow_systems(schedule);
   systems::add_render_extract(schedule);
   jobs::Executor executor(2);
-  executor.run(schedule, w);
+  // The light is shaded a quarter of the terrain per frame at most (light_refresh.h): 4 frames.
+  for (int frame = 0; frame < 4; ++frame) executor.run(schedule, w);
   const render::RenderPacket& packet = w.resource<render::RenderPacket>();
   ASSERT_TRUE(packet.terrain.lighting);
 
