@@ -11,7 +11,8 @@
 
 layout(push_constant) uniform Push {
   vec4 origin_cell;  // xyz: world position of sample (0, 0) at height 0; w: cell size
-  vec4 albedo;       // rgb: albedo; w: 1 when a lighting texture is bound
+  vec4 albedo;       // rgb: albedo as shown (1 in the lighting-only view)
+  vec4 lighting_size;  // xy: texels of the lighting texture (1x1: none)
   ivec4 grid;        // x, y: samples along x and y; z: chunks along x; w: quads per chunk side
 } pc;
 
@@ -40,7 +41,11 @@ void main() {
     drop = skirt_depth[chunk];
   }
   vec3 p = pc.origin_cell.xyz + vec3(x * pc.origin_cell.w, y * pc.origin_cell.w, heights[i] - drop);
-  v_uv = vec2(x, y) / vec2(pc.grid.xy - 1);
+  // Texel centres on the samples: (x + 0.5) / size for a lighting texture of the grid's size; in
+  // general x / (grid - 1) of the way between the first and the last texel centre. Done per
+  // vertex: the fragment shader only samples (on lavapipe every fragment counts).
+  v_uv = (vec2(x, y) / vec2(pc.grid.xy - 1) * (pc.lighting_size.xy - 1.0) + 0.5) /
+         pc.lighting_size.xy;
   gl_Position = camera.view_proj * vec4(p, 1.0);
 }
 #endif
@@ -50,11 +55,8 @@ layout(set = 0, binding = 2) uniform sampler2D lighting;
 layout(location = 0) in vec2 v_uv;
 layout(location = 0) out vec4 out_color;
 void main() {
-  vec3 light = vec3(1.0);
-  if (pc.albedo.w > 0.5) {
-    vec2 size = vec2(textureSize(lighting, 0));
-    light = texture(lighting, (v_uv * (size - 1.0) + 0.5) / size).rgb;
-  }
-  out_color = vec4(view_albedo(pc.albedo.rgb) * light, 1.0);
+  // albedo.rgb is already view_albedo's (the renderer applies the lighting-only toggle), and the
+  // 1x1 placeholder texture (lighting 1) is bound when there is no lighting.
+  out_color = vec4(pc.albedo.rgb * texture(lighting, v_uv).rgb, 1.0);
 }
 #endif

@@ -15,7 +15,8 @@ constexpr VkFormat kLightingFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
 
 struct Push {
   float origin_cell[4];
-  float albedo[4];
+  float albedo[4];         // as shown: 1 in the lighting-only view
+  float lighting_size[4];  // texels of the bound lighting texture (1x1 placeholder: lighting 1)
   std::int32_t grid[4];  // samples along x, along y; chunks along x; quads per chunk side
 };
 
@@ -370,8 +371,12 @@ void TerrainPass::draw(FrameContext& ctx) {
       buffer_write(1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &heights), image_write(2, &image),
       buffer_write(3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, &skirt)};
   push_descriptors(*device_, ctx.cmd, layout_.get(), writes);
+  const glm::vec3 albedo = ctx.packet.view.lighting_only ? glm::vec3(1.0f) : t.albedo;
+  const float lit_w = lighting_src_ ? static_cast<float>(lit_w_) : 1.0f;
+  const float lit_h = lighting_src_ ? static_cast<float>(lit_h_) : 1.0f;
   Push push{{t.origin.x, t.origin.y, t.origin.z, cell},
-            {t.albedo.x, t.albedo.y, t.albedo.z, lighting_src_ ? 1.0f : 0.0f},
+            {albedo.x, albedo.y, albedo.z, 0.0f},
+            {lit_w, lit_h, 0.0f, 0.0f},
             {grid_w_, grid_h_, chunks_x_, kChunkQuads}};
   vkCmdPushConstants(ctx.cmd, layout_.get(),
                      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,

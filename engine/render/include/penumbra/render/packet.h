@@ -103,8 +103,9 @@ struct ViewSettings {
   bool lighting_only = false;  // albedo 1: show the lighting the systems computed
   float point_size = 2.0f;     // pixels (1 where the device lacks large points)
   // Terrain level of detail: the largest geometric error, in pixels on screen, a coarser chunk
-  // may show (render/terrain_pass.h); 0 draws every chunk at full detail.
-  float terrain_lod_pixels = 1.0f;
+  // may show (render/terrain_pass.h); 0 draws every chunk at full detail. 3: the lighting is a
+  // per-pixel texture, so only the shape moves (why 3 and what it costs: docs/play.md).
+  float terrain_lod_pixels = 3.0f;
 };
 
 struct RenderPacket {
