@@ -9,7 +9,7 @@ namespace penumbra::play {
 struct Options {
   std::string scene = "terrain";  // "terrain": the DEM demo (terrain_demo.h); "sample": particles
   std::string data;               // ../shared/data when empty
-  int frames = 0;  // 0: 300 headless, until the window closes otherwise
+  int frames = 0;                 // 0: 300 headless, until the window closes otherwise
   int threads = 0;
   std::size_t particles = 200'000;
   std::string trace, dot;
@@ -20,8 +20,9 @@ struct Options {
   bool validation = false;
   std::string device;  // render/device_select.h
   int width = 960, height = 540;
-  std::size_t points = 50'000;  // particles drawn at most (every k-th); 0: all
+  std::size_t points = 50'000;    // particles drawn at most (every k-th); 0: all
   float terrain_lod_pixels = -1;  // < 0: the scene's own (render::ViewSettings)
+  float light_budget = -1;        // < 0: LightRefreshConfig's (terrain demo)
   std::string bench;              // headless: write the run's record (play_record.h) here
   std::string bench_splits;       // "T:L,...": also run these splits (threads, LP_NUM_THREADS)
   int empty_frames = 60;          // --bench: frames of an empty packet, the baseline

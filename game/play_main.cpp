@@ -3,7 +3,7 @@
 //   penumbra_play [--scene terrain|sample] [--data DIR] [--frames N] [--threads T] [--particles N]
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
-//                 [--device NAME] [--size WxH] [--points N] [--terrain-lod PX]
+//                 [--device NAME] [--size WxH] [--points N] [--terrain-lod PX] [--light-budget F]
 //                 [--bench FILE [--bench-splits T:L,...]]
 //
 // --scene terrain (default): the elevation model lit by the terrain shadow system under a
@@ -13,7 +13,8 @@
 // overlay, until it is closed (or N frames). Otherwise offscreen: N frames (default 300), K
 // screenshots written to DIR as PNG. Both print the per-system CPU timing table and the
 // per-pass GPU timing table. --points N draws at most N particles (every k-th; 0: all).
-// --terrain-lod PX overrides the terrain's pixel budget (0: full detail). --bench FILE
+// --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F the
+// largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
 // (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
 // and the image against full detail; --bench-splits runs the same scene again per thread split
 // (T simulation threads, L = LP_NUM_THREADS) first and includes those records.
@@ -37,7 +38,8 @@ using penumbra::play::Options;
                "[--frames N] [--threads T] "
                "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
                "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
-               "[--points N] [--terrain-lod PX] [--bench FILE [--bench-splits T:L,...]]\n",
+               "[--points N] [--terrain-lod PX] [--light-budget F] [--bench FILE [--bench-splits "
+               "T:L,...]]\n",
                error);
   std::exit(2);
 }
@@ -92,6 +94,12 @@ Options parse(int argc, char** argv) {
       o.terrain_lod_pixels = std::strtof(v.c_str(), &end);
       if (end == v.c_str() || *end != '\0' || !(o.terrain_lod_pixels >= 0))
         usage(("--terrain-lod needs pixels >= 0, got '" + v + "'").c_str());
+    } else if (a == "--light-budget") {
+      const std::string v = value();
+      char* end = nullptr;
+      o.light_budget = std::strtof(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(o.light_budget > 0 && o.light_budget <= 1))
+        usage(("--light-budget needs a fraction in (0, 1], got '" + v + "'").c_str());
     } else if (a == "--bench")
       o.bench = value();
     else if (a == "--bench-splits")

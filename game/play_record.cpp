@@ -75,10 +75,9 @@ std::string to_json(const PlayRecord& r) {
                   {"lod_max_difference", r.lod_max_difference}};
   j["lights"] = {{"tiles", r.light_tiles},
                  {"tiles_per_frame", r.light_tiles_per_frame},
-                 {"worst_observed_x_tolerance", r.light_worst_observed},
-                 {"worst_deferred_x_tolerance",
-                  std::isfinite(r.light_worst_deferred) ? json(r.light_worst_deferred)
-                                                        : json("inf")}};
+                 {"visible_fraction", r.light_visible_fraction},
+                 {"worst_observed_relative", r.light_worst_observed},
+                 {"worst_deferred_x_threshold", r.light_worst_deferred}};
   j["splits"] = json::array();
   for (const std::string& text : r.splits) {
     json child = json::parse(text, nullptr, /*allow_exceptions=*/false);

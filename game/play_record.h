@@ -21,9 +21,9 @@ struct PlayRecord {
   // The run.
   std::string scene, device, cpu, date;
   int width = 0, height = 0, frames = 0, warmup = 0, cores = 0;
-  int sim_threads = 0;           // the job graph's arena
-  std::string lavapipe_threads;  // LP_NUM_THREADS as the renderer saw it ("" when unset)
-  double load_average = -1;      // 1-minute load average at the start (-1: unknown)
+  int sim_threads = 0;               // the job graph's arena
+  std::string lavapipe_threads;      // LP_NUM_THREADS as the renderer saw it ("" when unset)
+  double load_average = -1;          // 1-minute load average at the start (-1: unknown)
   std::vector<FrameSample> samples;  // timed frames (after warm-up, no captures)
   double empty_frame_ms = 0;         // median frame of an empty packet (clear + tonemap)
   std::map<std::string, double> gpu_pass_ms;  // mean GPU time per pass (timestamps)
@@ -37,9 +37,10 @@ struct PlayRecord {
   int lod_max_difference = -1;
   // Light re-shading (light_refresh.h), over the timed frames.
   std::size_t light_tiles = 0;
-  double light_tiles_per_frame = 0;  // mean tiles re-shaded
-  double light_worst_observed = 0;   // largest real change of a re-shaded tile / tolerance
-  double light_worst_deferred = 0;   // largest bound left waiting / tolerance
+  double light_tiles_per_frame = 0;   // mean tiles re-shaded
+  double light_worst_observed = 0;    // largest real change of a re-shaded texel / its irradiance
+  double light_visible_fraction = 0;  // re-shaded texels that had changed by over the tolerance
+  double light_worst_deferred = 0;    // largest bound of a tile left waiting / its threshold
   // Other thread splits of the same scene, run as child processes (their JSON records).
   std::vector<std::string> splits;
 };

@@ -25,9 +25,9 @@
 #include "penumbra/render/window.h"
 #include "penumbra/render/window_target.h"
 #include "penumbra/systems/render_extract/render_extract.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 #include "play.h"
 #include "play_record.h"
-#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 
 namespace penumbra::play {
 namespace {
@@ -61,6 +61,7 @@ struct Sim {
     if (o.scene == "terrain") {
       game::TerrainDemoConfig demo;
       demo.data_dir = o.data;
+      if (o.light_budget > 0) demo.light_refresh.budget = o.light_budget;
       game::populate_terrain_demo(world, demo);
       world.resource<game::HorizonProbe>().aspect =
           static_cast<float>(o.width) / static_cast<float>(o.height);
@@ -84,6 +85,7 @@ struct Sim {
 
   // Light re-shading over the timed frames (terrain demo).
   std::size_t light_frames = 0, light_tiles_total = 0, light_tiles = 0;
+  std::size_t light_observed = 0, light_visible = 0;
   double light_worst_observed = 0, light_worst_deferred = 0;
 
   const jobs::FrameStats& step(int frame, int frames) {
@@ -96,6 +98,8 @@ struct Sim {
           ++light_frames;
           light_tiles = r.tiles;
           light_tiles_total += r.refreshed;
+          light_observed += r.observed_texels;
+          light_visible += r.observed_visible;
           light_worst_observed = std::max(light_worst_observed, double(r.worst_observed));
           light_worst_deferred = std::max(light_worst_deferred, double(r.worst_deferred));
         }
@@ -184,15 +188,25 @@ std::vector<std::string> run_splits(const Options& o) {
       continue;
     }
     const std::string file = o.bench + ".split";
-    std::vector<std::string> args = {"--headless", "--screenshots", "0", "--scene", o.scene,
-                                     "--frames", std::to_string(o.frames > 0 ? o.frames : 300),
-                                     "--threads", std::to_string(threads), "--size",
+    std::vector<std::string> args = {"--headless",
+                                     "--screenshots",
+                                     "0",
+                                     "--scene",
+                                     o.scene,
+                                     "--frames",
+                                     std::to_string(o.frames > 0 ? o.frames : 300),
+                                     "--threads",
+                                     std::to_string(threads),
+                                     "--size",
                                      std::to_string(o.width) + "x" + std::to_string(o.height),
-                                     "--bench", file};
+                                     "--bench",
+                                     file};
     if (!o.data.empty()) args.insert(args.end(), {"--data", o.data});
     if (!o.device.empty()) args.insert(args.end(), {"--device", o.device});
     if (o.terrain_lod_pixels >= 0)
       args.insert(args.end(), {"--terrain-lod", std::to_string(o.terrain_lod_pixels)});
+    if (o.light_budget > 0)
+      args.insert(args.end(), {"--light-budget", std::to_string(o.light_budget)});
     std::printf("penumbra: split %d simulation threads, LP_NUM_THREADS=%d\n", threads, lp);
     std::fflush(stdout);
     if (run_child(args, "LP_NUM_THREADS=" + std::to_string(lp)) != 0) {
@@ -294,16 +308,19 @@ int run_headless(const Options& o) {
   renderer.pass_table().print(std::cout);
   print_frame_summary(samples, sim.executor.threads());
   const auto stats = renderer.stats();
-  std::printf("drawn per frame: %llu terrain + %llu mesh triangles, %zu points; upload %.2f MiB\n",
-              static_cast<unsigned long long>(stats.terrain_triangles),
+  std::printf("drawn per frame: %.0f terrain + %llu mesh triangles, %zu points; upload %.2f MiB\n",
+              samples.empty() ? 0.0 : triangles / static_cast<double>(samples.size()),
               static_cast<unsigned long long>(stats.mesh_triangles),
               sim.world.resource<render::RenderPacket>().points.size(),
               static_cast<double>(stats.uploaded) / (1 << 20));
   if (sim.light_frames > 0)
-    std::printf("lights: %.1f of %zu tiles re-shaded per frame; largest change %.2f x tolerance "
-                "observed, %.2f x left waiting (bound)\n",
-                static_cast<double>(sim.light_tiles_total) / sim.light_frames, sim.light_tiles,
-                sim.light_worst_observed, sim.light_worst_deferred);
+    std::printf(
+        "lights: %.1f of %zu tiles re-shaded per frame; of the texels re-shaded, %.1f%% had "
+        "changed by more than the tolerance while waiting (at most %.0f%% of their "
+        "irradiance)\n",
+        static_cast<double>(sim.light_tiles_total) / sim.light_frames, sim.light_tiles,
+        sim.light_observed ? 100.0 * sim.light_visible / sim.light_observed : 0.0,
+        100.0 * sim.light_worst_observed);
   for (const std::string& p : written) std::printf("screenshot: %s\n", p.c_str());
   if (instance.validation()) std::printf("validation: %s\n", instance.messages().summary().c_str());
   if (!o.bench.empty()) {
@@ -325,6 +342,8 @@ int run_headless(const Options& o) {
     if (sim.light_frames > 0)
       record.light_tiles_per_frame = static_cast<double>(sim.light_tiles_total) / sim.light_frames;
     record.light_worst_observed = sim.light_worst_observed;
+    record.light_visible_fraction =
+        sim.light_observed ? static_cast<double>(sim.light_visible) / sim.light_observed : 0.0;
     record.light_worst_deferred = sim.light_worst_deferred;
     std::filesystem::path out(o.bench);
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());

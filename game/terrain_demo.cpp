@@ -174,7 +174,7 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   world.emplace_resource<Camera>();
   world.emplace_resource<FrameTime>();
   world.emplace_resource<HorizonProbe>();
-  terrain_shadow::emplace_terrain_shadow_resources(world, config.shadow);
+  terrain_shadow::emplace_terrain_shadow_resources(world, config.shadow, config.light_refresh);
   auto& settings = world.resource<systems::RenderSettings>();
   settings.sky.environment = map;
   settings.view.exposure_ev = -1.5f;

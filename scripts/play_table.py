@@ -38,6 +38,9 @@ def tables(r):
         f"by more than 24/255 (largest {t['lod_max_difference']}) | - |",
         f"| light tiles re-shaded per frame | {lights['tiles_per_frame']:.1f} of {lights['tiles']} | "
         f"<= 1/4 |",
+        f"| re-shaded texels that had changed visibly while waiting | "
+        f"{100 * lights['visible_fraction']:.1f}% (largest change "
+        f"{100 * lights['worst_observed_relative']:.0f}% of the texel's irradiance) | - |",
         f"| threads | simulation {th['simulation']}, lavapipe {th['lavapipe'] or 'default'} | - |",
     ]
     passes = r.get("gpu_pass_ms", {})

@@ -19,7 +19,9 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+float luminance(const glm::vec3& c) {
+  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
 
 std::vector<glm::vec3> positions(const TerrainShadowing<4>& s) {
   std::vector<glm::vec3> p;
@@ -49,11 +51,11 @@ TEST(LightRefresh, ChangeBoundHoldsAgainstShading) {
   const std::vector<glm::vec3> pos = positions(s);
   const LightSample base{{40.0f, 50.0f, 30.0f}, 3.0f, {4.0f, 3.0f, 2.0f}};
   const LightSample changes[] = {
-      {{41.0f, 50.0f, 30.0f}, 3.0f, {4.0f, 3.0f, 2.0f}},   // 1 m sideways
-      {{40.0f, 50.0f, 26.0f}, 3.0f, {4.0f, 3.0f, 2.0f}},   // 4 m down, towards the terrain
-      {{40.0f, 50.0f, 30.0f}, 3.5f, {4.0f, 3.0f, 2.0f}},   // larger
-      {{40.0f, 50.0f, 30.0f}, 3.0f, {2.0f, 3.5f, 2.0f}},   // another colour
-      {{55.0f, 30.0f, 12.0f}, 2.0f, {8.0f, 6.0f, 1.0f}},   // all of it, far
+      {{41.0f, 50.0f, 30.0f}, 3.0f, {4.0f, 3.0f, 2.0f}},  // 1 m sideways
+      {{40.0f, 50.0f, 26.0f}, 3.0f, {4.0f, 3.0f, 2.0f}},  // 4 m down, towards the terrain
+      {{40.0f, 50.0f, 30.0f}, 3.5f, {4.0f, 3.0f, 2.0f}},  // larger
+      {{40.0f, 50.0f, 30.0f}, 3.0f, {2.0f, 3.5f, 2.0f}},  // another colour
+      {{55.0f, 30.0f, 12.0f}, 2.0f, {8.0f, 6.0f, 1.0f}},  // all of it, far
   };
   std::vector<glm::vec3> before;
   s.add_spherical_light(base.centre, base.radius, base.radiance, before);

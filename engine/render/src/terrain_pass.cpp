@@ -17,7 +17,7 @@ struct Push {
   float origin_cell[4];
   float albedo[4];         // as shown: 1 in the lighting-only view
   float lighting_size[4];  // texels of the bound lighting texture (1x1 placeholder: lighting 1)
-  std::int32_t grid[4];  // samples along x, along y; chunks along x; quads per chunk side
+  std::int32_t grid[4];    // samples along x, along y; chunks along x; quads per chunk side
 };
 
 // Sample positions 0, s, 2s, ... along a chunk side of `quads` quads, always ending at `quads`.
@@ -342,7 +342,7 @@ void TerrainPass::draw(FrameContext& ctx) {
       auto append = [&](Part p) {
         const std::uint32_t* first = patterns_.data() + parts[p].first;
         for (const std::uint32_t* i = first; i != first + parts[p].count; ++i)
-          frame_indices_.push_back(*i == kRestart   ? kRestart
+          frame_indices_.push_back(*i == kRestart  ? kRestart
                                    : *i & kLowered ? skirt_base + (*i & ~kLowered)
                                                    : base + *i);
         triangles_ += parts[p].triangles;
@@ -356,10 +356,9 @@ void TerrainPass::draw(FrameContext& ctx) {
   }
   if (frame_indices_.empty()) return;
 
-  const Slice indices = ctx.ring.upload(frame_indices_.data(),
-                                        frame_indices_.size() * sizeof(std::uint32_t));
-  const Slice depths =
-      ctx.ring.upload(skirt_depths_.data(), skirt_depths_.size() * sizeof(float));
+  const Slice indices =
+      ctx.ring.upload(frame_indices_.data(), frame_indices_.size() * sizeof(std::uint32_t));
+  const Slice depths = ctx.ring.upload(skirt_depths_.data(), skirt_depths_.size() * sizeof(float));
   vkCmdBindPipeline(ctx.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline_.get());
   const VkDescriptorBufferInfo heights{heights_.get(), 0, VK_WHOLE_SIZE};
   const VkDescriptorBufferInfo skirt{depths.buffer, depths.offset, depths.size};

@@ -189,8 +189,7 @@ void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, g
     // Columns beyond the reach are not swept (the lines stay those of the whole field, so the
     // horizons within the reach are the same as without it).
     const double reach_columns = std::ceil(static_cast<double>(reach) / f.cell_size) + 1 - r_near;
-    if (reach_columns < side.columns)
-      side.columns = std::max(1, static_cast<int>(reach_columns));
+    if (reach_columns < side.columns) side.columns = std::max(1, static_cast<int>(reach_columns));
     // Only the lines that reach the field: v = v0 + r m in [0, size_v - 1] for some r.
     double m_lo = -1, m_hi = 1;
     if (r_near > 0) {

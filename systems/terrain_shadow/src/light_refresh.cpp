@@ -13,7 +13,9 @@ namespace penumbra::terrain_shadow {
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
-float luminance(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+float luminance(const glm::vec3& c) {
+  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
 
 // Distance between two boxes (0 when they overlap).
 float box_distance(const glm::vec3& lo_a, const glm::vec3& hi_a, const glm::vec3& lo_b,
@@ -96,11 +98,14 @@ void LightRefresh::reset(int width, int height, const std::vector<glm::vec3>& po
 void LightRefresh::set_reference(const std::vector<glm::vec3>& irradiance, float scale) {
   if (irradiance.size() != static_cast<std::size_t>(width_) * height_) return;
   double sum = 0;
+  texel_reference_.resize(irradiance.size());
   for (Tile& tile : tiles_) {
     float darkest = std::numeric_limits<float>::max();
     for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
       for (int x = tile.rect.x0; x < tile.rect.x1; ++x) {
-        const float e = scale * luminance(irradiance[static_cast<std::size_t>(y) * width_ + x]);
+        const std::size_t i = static_cast<std::size_t>(y) * width_ + x;
+        const float e = scale * luminance(irradiance[i]);
+        texel_reference_[i] = e;
         darkest = std::min(darkest, e);
         sum += e;
       }
@@ -121,9 +126,8 @@ const std::vector<TexelRect>& LightRefresh::plan(const std::vector<LightSample>&
     if (tile.shaded_with == kNever) {
       float brightest = 0;
       for (const LightSample& l : lights)
-        brightest = std::max(brightest,
-                             light_irradiance_bound(l, box_distance(tile.lo, tile.hi, l.centre,
-                                                                    l.centre)));
+        brightest = std::max(brightest, light_irradiance_bound(
+                                            l, box_distance(tile.lo, tile.hi, l.centre, l.centre)));
       stale.push_back({true, brightest, i});
       continue;
     }
@@ -142,8 +146,8 @@ const std::vector<TexelRect>& LightRefresh::plan(const std::vector<LightSample>&
     const float threshold =
         config_.tolerance * std::max(tile.reference, config_.dark_floor * mean_reference_);
     if (bound <= threshold) continue;
-    stale.push_back({false, threshold > 0 ? bound / threshold : std::numeric_limits<float>::max(),
-                     i});
+    stale.push_back(
+        {false, threshold > 0 ? bound / threshold : std::numeric_limits<float>::max(), i});
   }
   std::sort(stale.begin(), stale.end(), [](const Candidate& a, const Candidate& b) {
     if (a.never != b.never) return a.never;
@@ -157,11 +161,14 @@ const std::vector<TexelRect>& LightRefresh::plan(const std::vector<LightSample>&
   std::size_t texels = 0;
   stats_.stale = stale.size();
   stats_.worst_deferred = 0;
+  stats_.unshaded_waiting = 0;
   for (const Candidate& c : stale) {
     const TexelRect& r = tiles_[c.tile].rect;
     if (!planned_.empty() && texels + r.count() > budget) {
-      stats_.worst_deferred = c.never ? std::numeric_limits<float>::infinity()
-                                      : std::max(stats_.worst_deferred, c.key);
+      if (c.never)
+        ++stats_.unshaded_waiting;
+      else
+        stats_.worst_deferred = std::max(stats_.worst_deferred, c.key);
       continue;
     }
     texels += r.count();
@@ -186,21 +193,24 @@ void LightRefresh::keep_previous(const std::vector<glm::vec3>& irradiance) {
 
 void LightRefresh::commit(const std::vector<glm::vec3>* irradiance) {
   stats_.worst_observed = 0;
-  if (irradiance && !previous_.empty() &&
+  stats_.observed_texels = stats_.observed_visible = 0;
+  if (irradiance && !previous_.empty() && texel_reference_.size() == irradiance->size() &&
       irradiance->size() == static_cast<std::size_t>(width_) * height_) {
+    // Each texel's real change against its own threshold (the plan used the tile's darkest).
+    const float floor = config_.dark_floor * mean_reference_;
     std::size_t k = 0;
-    for (std::size_t i : planned_) {
-      const Tile& tile = tiles_[i];
-      const float threshold =
-          config_.tolerance * std::max(tile.reference, config_.dark_floor * mean_reference_);
-      float change = 0;
+    for (std::size_t t : planned_) {
+      const Tile& tile = tiles_[t];
       for (int y = tile.rect.y0; y < tile.rect.y1; ++y)
-        for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++k)
-          change = std::max(change, std::abs(luminance((*irradiance)[static_cast<std::size_t>(y) *
-                                                                         width_ + x]) -
-                                             luminance(previous_[k])));
-      if (tile.shaded_with != kNever && threshold > 0)
-        stats_.worst_observed = std::max(stats_.worst_observed, change / threshold);
+        for (int x = tile.rect.x0; x < tile.rect.x1; ++x, ++k) {
+          const std::size_t i = static_cast<std::size_t>(y) * width_ + x;
+          const float reference = std::max(texel_reference_[i], floor);
+          const float change = std::abs(luminance((*irradiance)[i]) - luminance(previous_[k]));
+          if (tile.shaded_with == kNever || !(reference > 0)) continue;
+          ++stats_.observed_texels;
+          stats_.observed_visible += change > config_.tolerance * reference;
+          stats_.worst_observed = std::max(stats_.worst_observed, change / reference);
+        }
     }
   }
   previous_.clear();

@@ -19,17 +19,19 @@
 
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
+#include "penumbra/systems/terrain_shadow/light_refresh.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
 namespace penumbra::game {
 
 struct TerrainDemoConfig {
-  std::string data_dir;                 // ../shared/data; empty: PENUMBRA_SHARED_DATA
+  std::string data_dir;                  // ../shared/data; empty: PENUMBRA_SHARED_DATA
   std::string environment = "dawn.exr";  // in data_dir/hdri: a low sun, so shadows are long
-  int terrain_size = 256;               // samples per side, cropped from the DEM's centre
-  float sky_rotation_speed = 0.05f;     // rad/s
-  float edit_interval = 3.0f;           // seconds between brush edits; <= 0: none
+  int terrain_size = 256;                // samples per side, cropped from the DEM's centre
+  float sky_rotation_speed = 0.05f;      // rad/s
+  float edit_interval = 3.0f;            // seconds between brush edits; <= 0: none
   terrain_shadow::TerrainShadowConfig shadow{};
+  terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
 };
 
 // Resource: which texel's horizon the debug view draws, as a point on the screen in NDC

@@ -18,9 +18,9 @@
 // GPU data, re-uploaded only when the packet's pointers change: heights (storage buffer, one
 // float per sample; vertices come from gl_VertexIndex) and the lighting texture (RGBA16F). Per
 // frame, through the upload ring: the index list (from CPU-side triangle-strip patterns per
-// chunk shape and stride, rebuilt only when the grid size changes) and the chunks' skirt depths. Same-size updates are copied
-// in place (ordered after the previous frame's reads by barriers); size changes create new
-// resources and retire the old ones.
+// chunk shape and stride, rebuilt only when the grid size changes) and the chunks' skirt depths.
+// Same-size updates are copied in place (ordered after the previous frame's reads by barriers);
+// size changes create new resources and retire the old ones.
 //
 // Threading: render thread only.
 #pragma once

@@ -60,12 +60,16 @@ float light_change_bound(const LightSample& before, const LightSample& after, fl
 float light_irradiance_bound(const LightSample& light, float distance);
 
 struct LightRefreshStats {
-  std::size_t tiles = 0;           // in the terrain
-  std::size_t stale = 0;           // over the tolerance this frame
-  std::size_t refreshed = 0;       // re-shaded this frame
-  float worst_deferred = 0.0f;     // largest bound / threshold left waiting (0: none)
-  float worst_observed = 0.0f;     // largest real change / threshold of a re-shaded tile that had
-                                   // been shaded before (keep_previous + commit)
+  std::size_t tiles = 0;             // in the terrain
+  std::size_t stale = 0;             // over the tolerance this frame
+  std::size_t refreshed = 0;         // re-shaded this frame
+  float worst_deferred = 0.0f;       // largest bound / threshold of a shaded tile left waiting
+  std::size_t unshaded_waiting = 0;  // tiles never shaded (or since the terrain changed) waiting
+  // What re-shading really changed (keep_previous + commit), over texels shaded before: the
+  // largest change relative to the texel's own irradiance (at least the dark floor), and how
+  // many of them changed by more than the tolerance (a wait that showed).
+  float worst_observed = 0.0f;
+  std::size_t observed_texels = 0, observed_visible = 0;
   std::uint64_t frames_shaded = 0;  // frames that re-shaded anything
 };
 
@@ -98,8 +102,8 @@ class LightRefresh {
  private:
   struct Tile {
     TexelRect rect;
-    glm::vec3 lo{0.0f}, hi{0.0f};  // box of the receivers
-    float reference = 0.0f;        // darkest total irradiance (luminance)
+    glm::vec3 lo{0.0f}, hi{0.0f};   // box of the receivers
+    float reference = 0.0f;         // darkest total irradiance (luminance)
     std::uint32_t shaded_with = 0;  // index into snapshots_; kNever: not shaded yet
   };
   static constexpr std::uint32_t kNever = 0xFFFFFFFFu;
@@ -108,6 +112,7 @@ class LightRefresh {
   int width_ = 0, height_ = 0, tiles_x_ = 0;
   std::vector<Tile> tiles_;
   float mean_reference_ = 0.0f;
+  std::vector<float> texel_reference_;               // set_reference(): luminance per texel
   std::vector<std::vector<LightSample>> snapshots_;  // lights tiles were shaded with
   std::vector<LightSample> planned_lights_;
   std::vector<std::size_t> planned_;  // tile indices of the last plan
