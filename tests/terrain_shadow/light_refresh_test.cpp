@@ -30,6 +30,16 @@ std::vector<glm::vec3> positions(const TerrainShadowing<4>& s) {
   return p;
 }
 
+// 64 x 64 mountains (2 m cells: 16 tiles) and a refresh for them with `budget`.
+struct Scene {
+  TerrainShadowing<4> shadowing;
+  LightRefresh refresh;
+  explicit Scene(float budget) : refresh({16, 1.0f / 256.0f, 0.01f, budget}) {
+    shadowing.update(test::mountains(64, 5), 1.0f);
+    refresh.reset(64, 64, positions(shadowing));
+  }
+};
+
 TEST(LightRefresh, SolidAngleOfASphere) {
   EXPECT_NEAR(sphere_solid_angle(1.0f, 1000.0f), kPi * 1e-6f, 1e-10f);  // pi (r / d)^2
   EXPECT_NEAR(sphere_solid_angle(1.0f, 2.0f), 2 * kPi * (1 - std::sqrt(0.75f)), 1e-6f);
@@ -80,12 +90,9 @@ TEST(LightRefresh, ChangeBoundHoldsAgainstShading) {
 }
 
 TEST(LightRefresh, UnchangedLightsReshadeNothingAndSmallMovesOnlyNearTiles) {
-  TerrainShadowing<4> s;
-  s.update(test::mountains(64, 5), 1.0f);
-  LightRefreshConfig config;
-  config.budget = 1.0f;
-  LightRefresh r(config);
-  r.reset(64, 64, positions(s));
+  Scene scene(1.0f);
+  TerrainShadowing<4>& s = scene.shadowing;
+  LightRefresh& r = scene.refresh;
   std::vector<LightSample> lights = {{{10.0f, 10.0f, 20.0f}, 2.0f, glm::vec3(20.0f)}};
   EXPECT_EQ(r.plan(lights).size(), 16u) << "never shaded: every tile";
   std::vector<glm::vec3> e(64 * 64, glm::vec3(0.0f));
@@ -104,12 +111,9 @@ TEST(LightRefresh, UnchangedLightsReshadeNothingAndSmallMovesOnlyNearTiles) {
 }
 
 TEST(LightRefresh, BudgetSpreadsALightWorstFirstAndConverges) {
-  TerrainShadowing<4> s;
-  s.update(test::mountains(64, 5), 1.0f);
-  LightRefreshConfig config;
-  config.budget = 0.25f;
-  LightRefresh r(config);
-  r.reset(64, 64, positions(s));
+  Scene scene(0.25f);
+  TerrainShadowing<4>& s = scene.shadowing;
+  LightRefresh& r = scene.refresh;
   const std::vector<LightSample> lights = {{{60.0f, 60.0f, 15.0f}, 2.0f, glm::vec3(20.0f)}};
   std::vector<glm::vec3> e(64 * 64, glm::vec3(0.0f));
   int frames = 0;
