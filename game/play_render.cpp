@@ -160,16 +160,14 @@ void print_frame_summary(const std::vector<FrameSample>& samples, int sim_thread
 double empty_frame_ms(render::Renderer& renderer, render::Target& target, int frames) {
   render::RenderPacket empty;
   empty.view.sky = empty.view.terrain = empty.view.meshes = empty.view.debug = false;
-  std::vector<double> ms;
+  std::vector<FrameSample> samples;
   for (int f = 0; f < frames + 5; ++f) {
     const auto t0 = Clock::now();
     renderer.render(empty, target);
-    if (f >= 5) ms.push_back(ms_since(t0));
+    if (f >= 5) samples.push_back({ms_since(t0), 0, 0});
   }
   renderer.wait_idle();
-  if (ms.empty()) return 0;
-  std::sort(ms.begin(), ms.end());
-  return ms[ms.size() / 2];
+  return summarize(samples).median_ms;  // the same median as the demo's frames
 }
 
 // Other thread splits of the same run, as child processes; their JSON records.
