@@ -28,6 +28,10 @@ struct Options {
   int empty_frames = 60;          // --bench: frames of an empty packet, the baseline
 };
 
+// The main job times the GPU passes of one frame in this many (render::Renderer::
+// set_timing_interval): on lavapipe timing every frame cost 10% of the frame rate (docs/play.md).
+inline constexpr unsigned kPlayTimingInterval = 8;
+
 // Rasteriser threads the main job gives lavapipe when LP_NUM_THREADS is unset (llvmpipe's own
 // default is one per core); chosen by measurement on 2 cores (docs/play.md).
 int default_lavapipe_threads();

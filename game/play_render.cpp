@@ -245,6 +245,7 @@ int run_headless(const Options& o) {
   dc.force = o.device;
   render::Device device(instance, dc);
   render::Renderer renderer(device);
+  renderer.set_timing_interval(kPlayTimingInterval);
   render::OffscreenTarget target(static_cast<std::uint32_t>(o.width),
                                  static_cast<std::uint32_t>(o.height));
 
@@ -369,6 +370,7 @@ int run_window(const Options& o) {
   render::WindowTarget target(device, window, render::Renderer::kFramesInFlight,
                               /*vsync=*/false);
   render::Renderer renderer(device);
+  renderer.set_timing_interval(kPlayTimingInterval);
   render::Overlay overlay(device, window);
   systems::RenderSettings& settings = sim.world.resource<systems::RenderSettings>();
 

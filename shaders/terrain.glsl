@@ -20,6 +20,11 @@ layout(push_constant) uniform Push {
 layout(set = 0, binding = 1, std430) readonly buffer Heights { float heights[]; };
 layout(set = 0, binding = 3, std430) readonly buffer Skirts { float skirt_depth[]; };
 layout(location = 0) out vec2 v_uv;
+// a / b for 0 <= a < 2^22, b > 0, in float: exact there (the error of the quotient, at most
+// 2^-22 relative, stays below the 0.5 / b margin), and cheaper than integer division, which
+// llvmpipe cannot vectorise (one scalar divide per lane).
+int quotient(int a, int b) { return int((float(a) + 0.5) / float(b)); }
+
 void main() {
   int w = pc.grid.x;
   int samples = pc.grid.x * pc.grid.y;
@@ -27,16 +32,18 @@ void main() {
   float drop = 0.0;
   int x, y;
   if (i < samples) {
-    x = i % w;
-    y = i / w;
+    y = quotient(i, w);
+    x = i - y * w;
   } else {
     // A skirt's lower vertex: chunk * (q + 1)^2 + the chunk-local index, past the samples.
     int q1 = pc.grid.w + 1;
     int j = i - samples;
-    int chunk = j / (q1 * q1);
+    int chunk = quotient(j, q1 * q1);
     int local = j - chunk * q1 * q1;
-    x = (chunk % pc.grid.z) * pc.grid.w + local % q1;
-    y = (chunk / pc.grid.z) * pc.grid.w + local / q1;
+    int chunk_y = quotient(chunk, pc.grid.z);
+    int local_y = quotient(local, q1);
+    x = (chunk - chunk_y * pc.grid.z) * pc.grid.w + local - local_y * q1;
+    y = chunk_y * pc.grid.w + local_y;
     i = y * w + x;
     drop = skirt_depth[chunk];
   }

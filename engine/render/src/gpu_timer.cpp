@@ -28,15 +28,16 @@ GpuTimer::~GpuTimer() {
   device_->count(ObjectKind::kQueryPool, -1);
 }
 
-void GpuTimer::start(VkCommandBuffer cmd) {
+void GpuTimer::start(VkCommandBuffer cmd, bool enabled) {
   names_.clear();
-  if (pool_ == VK_NULL_HANDLE) return;
+  enabled_ = enabled && pool_ != VK_NULL_HANDLE;
+  if (!enabled_) return;
   vkCmdResetQueryPool(cmd, pool_, 0, 2 * (capacity_ + 1));
   stamp(cmd, 0);
 }
 
 void GpuTimer::mark(VkCommandBuffer cmd, const char* name) {
-  if (pool_ == VK_NULL_HANDLE || names_.size() >= capacity_) return;
+  if (!enabled_ || names_.size() >= capacity_) return;
   names_.push_back(name);
   stamp(cmd, static_cast<std::uint32_t>(names_.size()));
 }

@@ -162,6 +162,15 @@ void Renderer::record_scene(FrameContext& ctx, Frame& f) {
       {"debug", view.debug, [](Renderer& r, FrameContext& c) { r.debug_.draw(c); }},
       {"sky", view.sky, [](Renderer& r, FrameContext& c) { r.sky_.draw(c); }},
   };
+  if (!f.timer->enabled()) {
+    // Untimed: one rendering scope for every scene pass (on lavapipe each scope end is a flush
+    // of the llvmpipe scene; docs/play.md measures what the timed frames' flushes cost).
+    begin_hdr(cmd, *images_, /*clear=*/true);
+    for (const Scope& s : scopes)
+      if (s.enabled) s.draw(*this, ctx);
+    vkCmdEndRendering(cmd);
+    return;
+  }
   bool first = true;
   for (const Scope& s : scopes) {
     if (!s.enabled && !first) continue;
@@ -201,7 +210,7 @@ FrameStatus Renderer::render(const RenderPacket& packet, Target& target,
   begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   vk_check(vkBeginCommandBuffer(f.cmd, &begin), "vkBeginCommandBuffer");
   const VkCommandBuffer cmd = f.cmd;
-  f.timer->start(cmd);
+  f.timer->start(cmd, timing_interval_ > 0 && f.number % timing_interval_ == 0);
 
   FrameContext ctx{*device_, cmd, *f.ring, retire_, f.number, extent, packet, {}};
   const float aspect = static_cast<float>(extent.width) / static_cast<float>(extent.height);

@@ -42,8 +42,11 @@ class GpuTimer {
   GpuTimer(const GpuTimer&) = delete;
   GpuTimer& operator=(const GpuTimer&) = delete;
 
-  void start(VkCommandBuffer cmd);  // first thing in the frame's command buffer
+  // First thing in the frame's command buffer. With `enabled` false the frame is not timed:
+  // mark() records nothing and read() returns nothing for it.
+  void start(VkCommandBuffer cmd, bool enabled = true);
   void mark(VkCommandBuffer cmd, const char* name);
+  bool enabled() const { return enabled_; }
   // The recorded passes of the frame (its fence must have signalled). Clears the record.
   std::vector<PassTime> read();
 
@@ -56,6 +59,7 @@ class GpuTimer {
   std::vector<const char*> names_;
   double ns_per_tick_;
   bool isolate_ = false;  // CPU device: a second timestamp after each mark (see above)
+  bool enabled_ = false;  // this frame is timed
 };
 
 class PassTimingTable {

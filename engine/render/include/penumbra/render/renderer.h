@@ -1,7 +1,8 @@
 // Renderer: draws a RenderPacket into a Target, one frame per render() call.
 //
-// A frame, in command order (each scene pass its own dynamic-rendering scope; a GPU timestamp
-// mark after each step, gpu_timer.h):
+// A frame, in command order (in a timed frame each scene pass has its own dynamic-rendering scope
+// and a GPU timestamp mark follows each step, gpu_timer.h; an untimed frame draws the scene
+// passes in one scope):
 //   upload   terrain / mesh / environment uploads, this frame's vertex lighting, debug lists
 //   terrain  clears HDR colour + depth, draws the height field      } HDR image (RGBA16F)
 //   meshes   per-vertex-lit meshes                                   } + reversed depth
@@ -81,6 +82,11 @@ class Renderer {
   // Waits for every submitted frame (and collects their pass times).
   void wait_idle();
 
+  // GPU pass times for one frame in `frames` (0: none; 1, the default: every frame). Timestamps
+  // are not free on lavapipe: each mark flushes the llvmpipe scene, and a timed frame draws its
+  // scene passes in separate rendering scopes (an untimed one in one scope). The main job times
+  // one frame in kPlayTimingInterval (game/play.h, docs/play.md).
+  void set_timing_interval(std::uint32_t frames) { timing_interval_ = frames; }
   const std::vector<PassTime>& last_pass_times() const { return last_pass_times_; }
   PassTimingTable& pass_table() { return table_; }
   Stats stats() const;
@@ -114,6 +120,7 @@ class Renderer {
   RetireList retire_;
   std::uint32_t slot_ = 0;
   std::uint64_t frame_number_ = 0;
+  std::uint32_t timing_interval_ = 1;
   std::uint64_t completed_ = 0;  // every frame <= completed_ has finished on the GPU
   std::uint64_t skipped_ = 0;
   VkDeviceSize uploaded_ = 0;
