@@ -87,6 +87,7 @@ TerrainPass::TerrainPass(Device& device, VkFormat color_format, VkFormat depth_f
   d.depth_format = depth_format;
   d.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
   d.primitive_restart = true;
+  d.cull = VK_CULL_MODE_BACK_BIT;  // slopes facing away are hidden by the terrain in front
   pipeline_ = create_pipeline(device, d);
   sampler_ = create_sampler(device, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
   placeholder_ = make_lighting(device, 1, 1);
@@ -213,21 +214,28 @@ void TerrainPass::build_patterns(int grid_width, const std::vector<std::pair<int
             return std::make_pair(at(xs[i], ys[row + 1]), at(xs[i], ys[row]));
           });
       });
+      // Skirts face out of their chunk (counter-clockwise seen from outside, as the surface is
+      // seen from above), so back-face culling keeps, at each seam, the skirt of the chunk
+      // beyond it: the one that can show through the crack.
       const std::pair<Part, int> rows[] = {{kSkirtLow, ys.front()}, {kSkirtHigh, ys.back()}};
       for (const auto& row : rows) {
         const int edge_y = row.second;  // not a structured binding: clang 14 cannot capture those
+        const bool flip = row.first == kSkirtHigh;
         part(row.first, [&](Range& r) {
           strip(r, xs.size(), [&](std::size_t i) {
-            return std::make_pair(at(xs[i], edge_y), lowered(xs[i], edge_y));
+            const std::uint32_t top = at(xs[i], edge_y), low = lowered(xs[i], edge_y);
+            return flip ? std::make_pair(low, top) : std::make_pair(top, low);
           });
         });
       }
       const std::pair<Part, int> cols[] = {{kSkirtLeft, xs.front()}, {kSkirtRight, xs.back()}};
       for (const auto& col : cols) {
         const int edge_x = col.second;
+        const bool flip = col.first == kSkirtLeft;
         part(col.first, [&](Range& r) {
           strip(r, ys.size(), [&](std::size_t i) {
-            return std::make_pair(at(edge_x, ys[i]), lowered(edge_x, ys[i]));
+            const std::uint32_t top = at(edge_x, ys[i]), low = lowered(edge_x, ys[i]);
+            return flip ? std::make_pair(low, top) : std::make_pair(top, low);
           });
         });
       }
