@@ -26,11 +26,15 @@ struct Options {
   std::string bench;              // headless: write the run's record (play_record.h) here
   std::string bench_splits;       // "T:L,...": also run these splits (threads, LP_NUM_THREADS)
   int empty_frames = 60;          // --bench: frames of an empty packet, the baseline
+  int gpu_timing_frames = 40;     // headless: frames after the warm-up whose GPU passes are
+                                  // timed (at most half the frames after it)
 };
 
-// The main job times the GPU passes of one frame in this many (render::Renderer::
-// set_timing_interval): on lavapipe timing every frame cost 10% of the frame rate (docs/play.md).
-inline constexpr unsigned kPlayTimingInterval = 8;
+// With a window the main job times the GPU passes (for the overlay) of one frame in this many
+// (render::Renderer::set_timing_interval): on lavapipe a timed frame takes about twice as long
+// as an untimed one (docs/play.md). Headless, only the first Options::gpu_timing_frames after
+// the warm-up are timed, and left out of the frame statistics.
+inline constexpr unsigned kWindowTimingInterval = 30;
 
 // Rasteriser threads the main job gives lavapipe when LP_NUM_THREADS is unset (llvmpipe's own
 // default is one per core); chosen by measurement on 2 cores (docs/play.md).

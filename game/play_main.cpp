@@ -4,7 +4,7 @@
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
 //                 [--device NAME] [--size WxH] [--points N] [--terrain-lod PX] [--light-budget F]
-//                 [--bench FILE [--bench-splits T:L,...]]
+//                 [--bench FILE [--bench-splits T:L,...]] [--gpu-timing-frames N]
 //
 // --scene terrain (default): the elevation model lit by the terrain shadow system under a
 // rotating HDR sky, a moving spherical light and periodic brush edits (terrain_demo.h);
@@ -17,7 +17,9 @@
 // largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
 // (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
 // and the image against full detail; --bench-splits runs the same scene again per thread split
-// (T simulation threads, L = LP_NUM_THREADS) first and includes those records.
+// (T simulation threads, L = LP_NUM_THREADS) first and includes those records. Headless, the
+// GPU passes are timed over the N frames after the warm-up (--gpu-timing-frames, default 40,
+// at most half the rest), which the frame statistics leave out.
 // Threads: --threads T for the job graph (0, the default: one per core); LP_NUM_THREADS, when
 // unset, is set by play::default_lavapipe_threads() before the renderer starts (play.h).
 #include <cstdio>
@@ -39,7 +41,7 @@ using penumbra::play::Options;
                "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
                "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
                "[--points N] [--terrain-lod PX] [--light-budget F] [--bench FILE [--bench-splits "
-               "T:L,...]]\n",
+               "T:L,...]] [--gpu-timing-frames N]\n",
                error);
   std::exit(2);
 }
@@ -104,6 +106,8 @@ Options parse(int argc, char** argv) {
       o.bench = value();
     else if (a == "--bench-splits")
       o.bench_splits = value();
+    else if (a == "--gpu-timing-frames")
+      o.gpu_timing_frames = static_cast<int>(number(0));
     else if (a == "--device")
       o.device = value();
     else if (a == "--size") {

@@ -56,7 +56,8 @@ std::string to_json(const PlayRecord& r) {
               {"height", r.height},
               {"frames", r.frames},
               {"warmup", r.warmup},
-              {"timed_frames", r.samples.size()}};
+              {"timed_frames", r.samples.size()},
+              {"gpu_timed_frames", r.gpu_timed_frames}};
   j["threads"] = {{"simulation", r.sim_threads}, {"lavapipe", r.lavapipe_threads}};
   j["frame"] = {{"fps", s.fps},
                 {"mean_ms", s.mean_ms},

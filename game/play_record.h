@@ -24,10 +24,14 @@ struct PlayRecord {
   int sim_threads = 0;               // the job graph's arena
   std::string lavapipe_threads;      // LP_NUM_THREADS as the renderer saw it ("" when unset)
   double load_average = -1;          // 1-minute load average at the start (-1: unknown)
-  std::vector<FrameSample> samples;  // timed frames (after warm-up, no captures)
+  std::vector<FrameSample> samples;  // measured frames (after warm-up and the GPU-timed frames,
+                                     // no captures)
   double empty_frame_ms = 0;         // median frame of an empty packet (clear + tonemap)
-  std::map<std::string, double> gpu_pass_ms;  // mean GPU time per pass (timestamps)
+  // Mean GPU time per pass (timestamps), over `gpu_timed_frames` frames rendered right after the
+  // warm-up and left out of `samples`: on lavapipe timing a frame slows it (docs/play.md).
+  std::map<std::string, double> gpu_pass_ms;
   double gpu_frame_ms = 0;
+  int gpu_timed_frames = 0;
   // Terrain level of detail: triangles drawn (mean per frame), the same view at full detail,
   // and the last frame's image against full detail (pixels off by more than 24 of 255).
   float terrain_lod_pixels = 0;

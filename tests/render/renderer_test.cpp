@@ -86,6 +86,31 @@ TEST(Renderer, ReportsGpuTimePerPass) {
   EXPECT_GT(renderer.pass_table().mean_total_ms(), 0.0);
 }
 
+// set_timing_interval(3): frames 3 and 6 of six are timed; 0: none. An untimed frame draws the
+// scene passes in one rendering scope, a timed one in one scope each: the same image.
+TEST(Renderer, TimesOneFrameInTheInterval) {
+  test::TestContext ctx;
+  Renderer renderer(ctx.device);
+  OffscreenTarget target(64, 36);
+  const RenderPacket p = everything();
+  renderer.set_timing_interval(3);
+  for (int i = 0; i < 6; ++i) renderer.render(p, target);
+  renderer.wait_idle();
+  EXPECT_EQ(renderer.pass_table().frames(), 2u);
+  renderer.set_timing_interval(0);
+  renderer.pass_table().clear();
+  for (int i = 0; i < 4; ++i) renderer.render(p, target);
+  renderer.wait_idle();
+  EXPECT_EQ(renderer.pass_table().frames(), 0u);
+  const auto untimed = renderer.capture(p, target);
+  renderer.set_timing_interval(1);
+  const auto timed = renderer.capture(p, target);
+  ASSERT_TRUE(untimed && timed);
+  EXPECT_EQ(renderer.pass_table().frames(), 1u);
+  EXPECT_EQ(untimed->pixels, timed->pixels);
+  EXPECT_EQ(ctx.instance.messages().total(), 0u) << ctx.instance.messages().summary();
+}
+
 TEST(Renderer, DisabledPassesDrawNothing) {
   test::TestContext ctx;
   Renderer renderer(ctx.device);

@@ -347,6 +347,31 @@ TEST(LightShading, RadialSweepEqualsRayHorizonTowardsTheFoot) {
   }
 }
 
+// A sweep limited to regions gives the full sweep's horizons in them, bit for bit, for feet
+// inside, on the grid lines of, and outside the field, and for regions across the foot's sides.
+TEST(LightShading, RadialSweepOverRegionsEqualsFullSweepThere) {
+  auto f = mountains(64);
+  const std::vector<TexelRect> regions = {
+      {0, 0, 16, 16}, {48, 32, 64, 48}, {20, 40, 36, 56}, {29, 18, 33, 23}, {60, 0, 64, 64}};
+  for (const glm::vec2 foot : {glm::vec2(30.5f, 20.0f), glm::vec2(40.0f, 51.0f),
+                               glm::vec2(-20.0f, 30.0f), glm::vec2(70.0f, -3.0f),
+                               glm::vec2(31.0f, 20.0f)}) {
+    RadialHorizonSweep full, limited;
+    full.run(*f, 1.5f, foot * f->cell_size);
+    limited.run(*f, 1.5f, foot * f->cell_size, std::numeric_limits<float>::infinity(), regions);
+    int checked = 0, differing = 0;
+    for (const TexelRect& r : regions)
+      for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x) {
+          const float a = full.horizon(x, y), b = limited.horizon(x, y);
+          ++checked;
+          if (!(a == b || (std::isnan(a) && std::isnan(b)))) ++differing;
+        }
+    EXPECT_GT(checked, 900);
+    EXPECT_EQ(differing, 0) << "foot (" << foot.x << ", " << foot.y << ")";
+  }
+}
+
 // Degenerate lights in both modes (the documented behaviour of add_spherical_light).
 TEST(LightShading, DegenerateLightsInBothModes) {
   for (LightShading s : {LightShading::kCapHorizon, LightShading::kShWedges}) {

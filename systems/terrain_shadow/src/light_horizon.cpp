@@ -155,8 +155,43 @@ int clamped_ceil(double v, int lo, int hi) {
 
 }  // namespace
 
+void RadialHorizonSweep::limit_lines(Side& side, std::span<const TexelRect> regions) const {
+  // horizon() reads lines l0 and l0 + 1 at column k, l0 = floor(m J - j_lo) for the texel's
+  // slope m = rv / ru about the side's major axis. Over a rectangle with ru > 0, m is extreme at
+  // its corners; one line of margin either side covers the rounding of horizon()'s floats.
+  side.line_end.assign(static_cast<std::size_t>(side.lines), 0);
+  const float fu = side.x_major ? foot_.x : foot_.y, fv = side.x_major ? foot_.y : foot_.x;
+  for (const TexelRect& r : regions) {
+    if (r.empty()) continue;
+    const int ua = side.x_major ? r.x0 : r.y0, ub = (side.x_major ? r.x1 : r.y1) - 1;
+    const int va = side.x_major ? r.y0 : r.x0, vb = (side.x_major ? r.y1 : r.x1) - 1;
+    const int ka = side.sign * (ua - side.u_first), kb = side.sign * (ub - side.u_first);
+    const int k_lo = std::max(std::min(ka, kb), 0);
+    const int k_hi = std::min(std::max(ka, kb), side.columns - 1);
+    if (k_lo > k_hi) continue;
+    const float ru_lo = std::max(side.sign * (static_cast<float>(side.u_first + side.sign * k_lo) - fu), 1e-6f);
+    const float ru_hi = side.sign * (static_cast<float>(side.u_first + side.sign * k_hi) - fu);
+    float m_lo = 1, m_hi = -1;
+    for (const float rv : {static_cast<float>(va) - fv, static_cast<float>(vb) - fv})
+      for (const float ru : {ru_lo, std::max(ru_hi, ru_lo)}) {
+        const float m = std::clamp(rv / ru, -1.0f, 1.0f);
+        m_lo = std::min(m_lo, m);
+        m_hi = std::max(m_hi, m);
+      }
+    const float j0 = static_cast<float>(side.j_lo);
+    const int last = side.lines - 1;
+    const int l_lo = std::clamp(static_cast<int>(std::floor(m_lo * side.lines_per_slope - j0)) - 1,
+                                0, std::max(last - 1, 0));
+    const int l_hi = std::clamp(static_cast<int>(std::floor(m_hi * side.lines_per_slope - j0)) + 2,
+                                std::min(1, last), last);
+    for (int l = l_lo; l <= l_hi; ++l)
+      side.line_end[static_cast<std::size_t>(l)] =
+          std::max(side.line_end[static_cast<std::size_t>(l)], k_hi + 1);
+  }
+}
+
 void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, glm::vec2 foot,
-                             float reach) {
+                             float reach, std::span<const TexelRect> regions) {
   field_ = &f;
   height_scale_ = height_scale;
   foot_ = foot / f.cell_size;
@@ -202,6 +237,8 @@ void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, g
     side.j_lo = static_cast<int>(j_lo);
     side.lines = static_cast<int>(j_hi - j_lo) + 1;
     side.angle.resize(static_cast<std::size_t>(side.lines) * side.columns);
+    side.line_end.clear();
+    if (!regions.empty()) limit_lines(side, regions);
     const std::size_t stride_u = side.x_major ? 1 : static_cast<std::size_t>(f.width);
     const std::size_t stride_v = side.x_major ? static_cast<std::size_t>(f.width) : 1;
     const float* heights = f.heights.data();
@@ -214,8 +251,12 @@ void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, g
             const double m = (j_lo + line) / lines_per_slope;
             const float inv_metres = static_cast<float>(1 / (std::sqrt(1 + m * m) * f.cell_size));
             float* out = side.angle.data() + static_cast<std::size_t>(line) * side.columns;
+            const int columns = side.line_end.empty()
+                                    ? side.columns
+                                    : side.line_end[static_cast<std::size_t>(line)];
+            if (columns == 0) continue;
             // Columns whose point v = v0 + (r_near + k) m lies in [0, size_v - 1] (within 1e-5).
-            double k_min = 0, k_max = side.columns - 1;
+            double k_min = 0, k_max = columns - 1;
             if (m != 0) {
               const double k_a = (-1e-5 - v0) / m - r_near, k_b = (v_max + 1e-5 - v0) / m - r_near;
               k_min = std::max(k_min, std::ceil(std::min(k_a, k_b)));
@@ -223,10 +264,10 @@ void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, g
             } else if (!(v0 > -1e-5 && v0 < v_max + 1e-5)) {
               k_max = -1;
             }
-            const int first = static_cast<int>(std::min(k_min, static_cast<double>(side.columns)));
+            const int first = static_cast<int>(std::min(k_min, static_cast<double>(columns)));
             const int end = std::max(first, static_cast<int>(k_max) + 1);
             std::fill(out, out + first, std::numeric_limits<float>::quiet_NaN());
-            std::fill(out + end, out + side.columns, std::numeric_limits<float>::quiet_NaN());
+            std::fill(out + end, out + columns, std::numeric_limits<float>::quiet_NaN());
             float* hr = hull_r.data();
             float* hh = hull_h.data();
             int n = 0;

@@ -240,7 +240,7 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
   for (int y = 0; y < f.height; ++y) rows[static_cast<std::size_t>(y)] = {y, 0, f.width};
   if (config_.light_shading == LightShading::kCapHorizon)
     add_cap_light(centre, radius, radiance, irradiance, rows,
-                  std::numeric_limits<float>::infinity());
+                  std::numeric_limits<float>::infinity(), {});
   else
     add_sh_light(centre, radius, radiance, irradiance, rows);
 }
@@ -270,7 +270,7 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
   }
   if (spans.empty()) return;
   if (config_.light_shading == LightShading::kCapHorizon)
-    add_cap_light(centre, radius, radiance, irradiance, spans, reach + f.cell_size);
+    add_cap_light(centre, radius, radiance, irradiance, spans, reach + f.cell_size, regions);
   else
     add_sh_light(centre, radius, radiance, irradiance, spans);
 }
@@ -333,13 +333,14 @@ template <int N>
 void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                                         const glm::vec3& radiance,
                                         std::vector<glm::vec3>& irradiance,
-                                        const std::vector<Span>& spans, float reach) {
+                                        const std::vector<Span>& spans, float reach,
+                                        std::span<const TexelRect> regions) {
   const assets::HeightField& f = *field_;
   const HorizonMethod method = config_.cap_method;
   std::optional<LightHorizonMarch> marcher;
   if (method == HorizonMethod::kMarch) marcher.emplace(pyramid_, config_.march);
   if (method == HorizonMethod::kSweep)
-    radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y), reach);
+    radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y), reach, regions);
   const bool sweep = method == HorizonMethod::kSweep;
   tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) {
     const int y = spans[si].y;

@@ -84,8 +84,8 @@ class Renderer {
 
   // GPU pass times for one frame in `frames` (0: none; 1, the default: every frame). Timestamps
   // are not free on lavapipe: each mark flushes the llvmpipe scene, and a timed frame draws its
-  // scene passes in separate rendering scopes (an untimed one in one scope). The main job times
-  // one frame in kPlayTimingInterval (game/play.h, docs/play.md).
+  // scene passes in separate rendering scopes (an untimed one in one scope), so a timed frame
+  // takes about twice as long (docs/play.md). 0 still returns the frames already timed.
   void set_timing_interval(std::uint32_t frames) { timing_interval_ = frames; }
   const std::vector<PassTime>& last_pass_times() const { return last_pass_times_; }
   PassTimingTable& pass_table() { return table_; }

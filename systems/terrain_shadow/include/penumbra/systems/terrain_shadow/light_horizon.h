@@ -42,6 +42,7 @@
 
 #include <array>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -98,8 +99,14 @@ class RadialHorizonSweep {
   // `field` for horizon(). `reach` (metres): texels farther than that along the major axis of
   // their side are not swept (horizon() gives -pi/2 there); those within it get what a sweep
   // without a reach gives, bit for bit.
+  // `regions` (texels, clipped to the field), when not empty: only texels in them are asked for
+  // afterwards, so each line is swept only as far as the farthest of their texels it serves, and
+  // lines serving none are not swept (horizon() elsewhere is unspecified); those texels get the
+  // same horizons, bit for bit. A light re-shading a quarter of the tiles sweeps about that
+  // share of the line samples (light_refresh.h).
   void run(const assets::HeightField& field, float height_scale, glm::vec2 foot,
-           float reach = std::numeric_limits<float>::infinity());
+           float reach = std::numeric_limits<float>::infinity(),
+           std::span<const TexelRect> regions = {});
   // Elevation (radians) of the horizon of texel (x, y) towards the foot; -pi/2 when no terrain
   // lies in between (the foot within a column of the texel, or outside the field).
   float horizon(int x, int y) const;
@@ -112,7 +119,10 @@ class RadialHorizonSweep {
     int j_lo = 0, lines = 0;       // line j_lo + l is stored at row l
     float lines_per_slope = 1;     // J
     std::vector<float> angle;      // lines x columns; NaN outside the field
+    std::vector<int> line_end;     // with regions: columns swept per line (empty: all)
   };
+  // Side::line_end from the regions (run()).
+  void limit_lines(Side& side, std::span<const TexelRect> regions) const;
   std::array<Side, 4> sides_;
   const assets::HeightField* field_ = nullptr;
   float height_scale_ = 1;

@@ -165,7 +165,7 @@ class TerrainShadowing {
                     std::vector<glm::vec3>& irradiance, const std::vector<Span>& spans);
   void add_cap_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
                      std::vector<glm::vec3>& irradiance, const std::vector<Span>& spans,
-                     float reach);
+                     float reach, std::span<const TexelRect> regions);
 
   TerrainShadowConfig config_;
   WedgeTable<N> hemisphere_;
