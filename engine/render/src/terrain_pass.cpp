@@ -86,7 +86,7 @@ TerrainPass::TerrainPass(Device& device, VkFormat color_format, VkFormat depth_f
   d.color_format = color_format;
   d.depth_format = depth_format;
   d.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
-  d.primitive_restart = true;
+  d.primitive_restart = false;  // strips joined by degenerate triangles (draw())
   d.cull = VK_CULL_MODE_BACK_BIT;  // slopes facing away are hidden by the terrain in front
   pipeline_ = create_pipeline(device, d);
   sampler_ = create_sampler(device, VK_FILTER_LINEAR, VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE);
@@ -342,6 +342,7 @@ void TerrainPass::draw(FrameContext& ctx) {
   const auto samples = static_cast<std::uint32_t>(grid_w_ * grid_h_);
   constexpr std::uint32_t kChunkVertices = (kChunkQuads + 1) * (kChunkQuads + 1);
   frame_indices_.clear();
+  bool new_strip = true;
   skirt_depths_.assign(chunks_.size(), 0.0f);
   for (int cy = 0; cy < chunks_y_; ++cy) {
     for (int cx = 0; cx < chunks_x_; ++cx) {
@@ -368,10 +369,23 @@ void TerrainPass::draw(FrameContext& ctx) {
       const auto skirt_base = samples + static_cast<std::uint32_t>(ci) * kChunkVertices;
       auto append = [&](Part p) {
         const std::uint32_t* first = patterns_.data() + parts[p].first;
-        for (const std::uint32_t* i = first; i != first + parts[p].count; ++i)
-          frame_indices_.push_back(*i == kRestart  ? kRestart
-                                   : *i & kLowered ? skirt_base + (*i & ~kLowered)
-                                                   : base + *i);
+        for (const std::uint32_t* i = first; i != first + parts[p].count; ++i) {
+          if (*i == kRestart) {
+            new_strip = true;
+            continue;
+          }
+          const std::uint32_t v = *i & kLowered ? skirt_base + (*i & ~kLowered) : base + *i;
+          if (new_strip && !frame_indices_.empty()) {
+            // Joined by degenerate triangles: the last vertex again, the first one again, and
+            // once more where needed so that the new strip starts at an even position.
+            const std::uint32_t last = frame_indices_.back();
+            frame_indices_.push_back(last);
+            frame_indices_.push_back(v);
+            if (frame_indices_.size() % 2 == 1) frame_indices_.push_back(v);
+          }
+          new_strip = false;
+          frame_indices_.push_back(v);
+        }
         triangles_ += parts[p].triangles;
       };
       append(kSurface);

@@ -12,8 +12,11 @@
 // lighting detail; only the shape moves, by less than that many pixels (the budget and why:
 // docs/play.md). Between two visible neighbours of different strides, both draw a vertical
 // skirt along their shared edge, as deep as the two errors together (the largest the crack can
-// be), which covers the crack. All visible chunks go into one index list and one draw call per
-// frame: on lavapipe a draw costs about 20 us, and small chunks adapt better to rough terrain.
+// be), which covers the crack. Skirts face out of their chunk and back faces are culled, so at a
+// seam only the skirt that can show through the crack is rasterised. All visible chunks go into
+// one index list and one draw call per frame, as one triangle strip whose pieces are joined by
+// degenerate triangles: on lavapipe a draw costs about 20 us, and small chunks adapt better to
+// rough terrain.
 //
 // GPU data, re-uploaded only when the packet's pointers change: heights (storage buffer, one
 // float per sample; vertices come from gl_VertexIndex) and the lighting texture (RGBA16F). Per
@@ -87,7 +90,7 @@ class TerrainPass {
   Unique<VkPipeline> pipeline_;
   Unique<VkSampler> sampler_;
   Image placeholder_;  // 1x1, bound when there is no lighting texture
-  static constexpr std::uint32_t kRestart = 0xFFFFFFFFu;
+  static constexpr std::uint32_t kRestart = 0xFFFFFFFFu;  // pattern entry: the strip ends
   static constexpr std::uint32_t kLowered = 0x40000000u;  // pattern entry: a skirt's lower vertex
   void build_patterns(int grid_width, const std::vector<std::pair<int, int>>& shapes);
 
