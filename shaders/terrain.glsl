@@ -1,10 +1,8 @@
-// Terrain pass: the height field as a grid mesh, drawn per chunk at a level of detail (see
+// Terrain pass: the height field as a triangle mesh at a level of detail (see
 // engine/render/include/penumbra/render/terrain_pass.h). Vertices come from gl_VertexIndex and
-// the heights storage buffer (no vertex buffer): index i < width*height is sample i; i +
-// width*height is the same sample lowered by the chunk's skirt depth (skirts hide the cracks
-// between chunks of different detail). The fragment shader samples the per-texel lighting
-// texture (texel centres on the height samples), so lighting keeps its full resolution at any
-// geometric detail, and multiplies the albedo.
+// the heights storage buffer (no vertex buffer): index i is sample i (y * width + x). The
+// fragment shader samples the per-texel lighting texture (texel centres on the height samples),
+// so lighting keeps its full resolution at any geometric detail, and multiplies the albedo.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #include "common.glsl"
@@ -13,13 +11,13 @@ layout(push_constant) uniform Push {
   vec4 origin_cell;  // xyz: world position of sample (0, 0) at height 0; w: cell size
   vec4 albedo;       // rgb: albedo as shown (1 in the lighting-only view)
   vec4 lighting_size;  // xy: texels of the lighting texture (1x1: none)
-  ivec4 grid;        // x, y: samples along x and y; z: chunks along x; w: quads per chunk side
+  ivec4 grid;        // x, y: samples along x and y
 } pc;
 
 #ifdef PENUMBRA_VERTEX
 layout(set = 0, binding = 1, std430) readonly buffer Heights { float heights[]; };
-layout(set = 0, binding = 3, std430) readonly buffer Skirts { float skirt_depth[]; };
 layout(location = 0) out vec2 v_uv;
+
 // a / b for 0 <= a < 2^22, b > 0, in float: exact there (the error of the quotient, at most
 // 2^-22 relative, stays below the 0.5 / b margin), and cheaper than integer division, which
 // llvmpipe cannot vectorise (one scalar divide per lane).
@@ -27,27 +25,10 @@ int quotient(int a, int b) { return int((float(a) + 0.5) / float(b)); }
 
 void main() {
   int w = pc.grid.x;
-  int samples = pc.grid.x * pc.grid.y;
   int i = gl_VertexIndex;
-  float drop = 0.0;
-  int x, y;
-  if (i < samples) {
-    y = quotient(i, w);
-    x = i - y * w;
-  } else {
-    // A skirt's lower vertex: chunk * (q + 1)^2 + the chunk-local index, past the samples.
-    int q1 = pc.grid.w + 1;
-    int j = i - samples;
-    int chunk = quotient(j, q1 * q1);
-    int local = j - chunk * q1 * q1;
-    int chunk_y = quotient(chunk, pc.grid.z);
-    int local_y = quotient(local, q1);
-    x = (chunk - chunk_y * pc.grid.z) * pc.grid.w + local - local_y * q1;
-    y = chunk_y * pc.grid.w + local_y;
-    i = y * w + x;
-    drop = skirt_depth[chunk];
-  }
-  vec3 p = pc.origin_cell.xyz + vec3(x * pc.origin_cell.w, y * pc.origin_cell.w, heights[i] - drop);
+  int y = quotient(i, w);
+  int x = i - y * w;
+  vec3 p = pc.origin_cell.xyz + vec3(x * pc.origin_cell.w, y * pc.origin_cell.w, heights[i]);
   // Texel centres on the samples: (x + 0.5) / size for a lighting texture of the grid's size; in
   // general x / (grid - 1) of the way between the first and the last texel centre. Done per
   // vertex: the fragment shader only samples (on lavapipe every fragment counts).

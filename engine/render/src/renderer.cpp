@@ -327,8 +327,6 @@ Renderer::Stats Renderer::stats() const {
   s.uploaded = uploaded_;
   s.terrain_triangles = terrain_.triangles();
   s.mesh_triangles = meshes_.triangles();
-  s.terrain_chunks_drawn = terrain_.chunks_drawn();
-  s.terrain_chunks_culled = terrain_.chunks_culled();
   return s;
 }
 

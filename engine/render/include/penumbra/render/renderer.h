@@ -66,7 +66,6 @@ class Renderer {
     VkDeviceSize ring_capacity = 0;  // all frames' upload rings
     VkDeviceSize uploaded = 0;       // ring bytes used by the last frame
     std::uint64_t terrain_triangles = 0, mesh_triangles = 0;  // drawn by the last frame
-    std::uint32_t terrain_chunks_drawn = 0, terrain_chunks_culled = 0;
   };
 
   explicit Renderer(Device& device);
