@@ -130,9 +130,9 @@ TEST(TerrainBintree, CoversTheGridWithoutCracksAtAnyBudget) {
   }
 }
 
-// Each triangle drawn: its largest vertical distance to a sample inside it, seen from the eye at
-// the triangle's nearest point, spans at most the budget. Checked independently of the class:
-// the error by enumerating samples, the distance by sampling the triangle densely.
+// Each triangle drawn: its largest vertical distance to a sample inside it, seen from the eye
+// anywhere on the triangle, spans at most the budget. Checked independently of the class: the
+// error by enumerating samples, its projection by sampling the triangle densely.
 TEST(TerrainBintree, EveryTriangleIsWithinThePixelBudget) {
   const assets::HeightField f = field(65, 65, 0.5f, hills);
   TerrainBintree tree;
@@ -158,17 +158,20 @@ TEST(TerrainBintree, EveryTriangleIsWithinThePixelBudget) {
         const double plane = (w1 * pa.z + w2 * pb.z + w0 * pc.z) / total;
         error = std::max(error, std::abs(height(x, y) - plane));
       }
-    float nearest = std::numeric_limits<float>::max();
+    // Pixels per unit of vertical error at p: focal * h / |p - eye|^2 (h horizontal distance).
+    float worst = 0;
     for (int i = 0; i <= 40; ++i)
       for (int j = 0; i + j <= 40; ++j) {
-        const float u = i / 40.0f, v = j / 40.0f;
-        nearest = std::min(nearest, glm::distance(eye, pa + u * (pb - pa) + v * (pc - pa)));
+        const glm::vec3 v = pa + i / 40.0f * (pb - pa) + j / 40.0f * (pc - pa) - eye;
+        worst = std::max(worst, 500.0f * std::hypot(v.x, v.y) / glm::dot(v, v));
       }
     ++checked;
-    over += error * 500.0 > budget * nearest * 1.0001 + 1e-6;
+    over += error * worst > budget * 1.0001 + 1e-6;
   }
   EXPECT_GT(checked, 50);
   EXPECT_LT(checked, 2 * 64 * 64 / 2) << "the budget coarsens";
+  EXPECT_EQ(TerrainBintree::projected_pixels(1.0f, eye, 0.5f, uncull(1.0f, eye)),
+            std::numeric_limits<float>::infinity()) << "the eye in the sphere";
   EXPECT_EQ(over, 0);
 }
 

@@ -21,6 +21,18 @@ long long cross(int ux, int uy, int vx, int vy) {
 
 }  // namespace
 
+float TerrainBintree::projected_pixels(float error, const glm::vec3& centre, float radius,
+                                       const View& view) {
+  // A vertical offset e at p, seen from the eye, moves on screen by e sin(beta) / |p - eye|
+  // radians, beta the angle between the view ray and the vertical: e h / |p - eye|^2 with h the
+  // horizontal distance. Over the sphere, h <= h_c + r and |p - eye| >= d_c - r.
+  const glm::vec3 v = centre - view.eye;
+  const float d = std::sqrt(glm::dot(v, v)) - radius;
+  if (d <= 0) return std::numeric_limits<float>::infinity();
+  const float h = std::sqrt(v.x * v.x + v.y * v.y) + radius;
+  return error * view.focal_px * std::min(h, d) / (d * d);
+}
+
 template <class Fn>
 void TerrainBintree::for_each_at_depth(int depth, Fn&& fn) const {
   const int n = size_ - 1;
@@ -138,8 +150,7 @@ void TerrainBintree::refine(const Triangle& t, const View& view, const glm::vec4
       if (view.cull)
         for (const glm::vec4& p : planes)
           if (glm::dot(glm::vec3(p), c) + p.w < -r) return;  // S(m) holds t: t is not in view
-      split = view.max_pixels <= 0 ||
-              (e > 0 && e * view.focal_px > view.max_pixels * (glm::distance(view.eye, c) - r));
+      split = view.max_pixels <= 0 || (e > 0 && projected_pixels(e, c, r, view) > view.max_pixels);
     }
     if (split) {
       refine(Triangle{t.cx, t.cy, t.ax, t.ay, mx, my}, view, planes, indices, count);

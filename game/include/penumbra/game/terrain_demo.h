@@ -27,7 +27,8 @@ namespace penumbra::game {
 struct TerrainDemoConfig {
   std::string data_dir;                  // ../shared/data; empty: PENUMBRA_SHARED_DATA
   std::string environment = "dawn.exr";  // in data_dir/hdri: a low sun, so shadows are long
-  int terrain_size = 256;                // samples per side, cropped from the DEM's centre
+  int terrain_size = 257;  // samples per side, cropped from the DEM's centre (2^k + 1: the
+                           // renderer's terrain_bintree.h splits no border)
   float sky_rotation_speed = 0.05f;      // rad/s
   float edit_interval = 3.0f;            // seconds between brush edits; <= 0: none
   terrain_shadow::TerrainShadowConfig shadow{};

@@ -8,11 +8,11 @@
 // a height sample inside it (its edges included) and its plane. A midpoint m carries E(m), the
 // largest error of the (up to two) triangles whose hypotenuse it halves and of every midpoint
 // below them, and a sphere S(m) around m holding those triangles (their error included) and the
-// spheres below. m is active when E(m) seen from the eye at the nearest point of S(m) spans more
-// than the budget: E(m) * focal_px > max_pixels * (|eye - m| - radius(m)). Since E and S grow
-// towards the roots, an active midpoint's ancestors are active: both triangles beside an
-// active midpoint are split, and the mesh has no T-junction, so no crack and no skirts (the
-// split rule and error propagation of ROAM, Duchaineau et al. 1997, and of Mapbox's Martini).
+// spheres below. m is active when a vertical error E(m) anywhere in S(m) can span more than the
+// budget on screen (projected_pixels). Since E and S grow towards the roots, an active
+// midpoint's ancestors are active: both triangles beside an active midpoint are split, and the
+// mesh has no T-junction, so no crack and no skirts (the split rule and error propagation of
+// ROAM, Duchaineau et al. 1997, and of Mapbox's Martini).
 // Every triangle drawn is within the budget: its error is at most E of the inactive midpoint
 // that ended its refinement (a cell's two triangles have no error).
 //
@@ -54,6 +54,13 @@ class TerrainBintree {
   // Appends the mesh's triangles, three sample indices (y * width + x) each, counter-clockwise
   // seen from above; returns the number appended.
   std::size_t triangulate(const View& view, std::vector<std::uint32_t>& indices) const;
+
+  // An upper bound of the pixels a vertical error `error` anywhere in the sphere (centre,
+  // radius) spans on screen: error * focal_px * h / d^2, with d the sphere's nearest distance
+  // from the eye and h <= d the largest horizontal distance in it (a vertical error seen from
+  // above moves less than one seen edge-on); infinity with the eye in the sphere.
+  static float projected_pixels(float error, const glm::vec3& centre, float radius,
+                                const View& view);
 
   int size() const { return size_; }  // side of the virtual square, 2^k + 1 (0 when empty)
   // E(m) at virtual midpoint (x, y): 0 where nothing splits there, infinity for border splits.
