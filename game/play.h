@@ -25,7 +25,8 @@ struct Options {
   float light_budget = -1;        // < 0: LightRefreshConfig's (terrain demo)
   std::string bench;              // headless: write the run's record (play_record.h) here
   std::string bench_splits;       // "T:L,...": also run these splits (threads, LP_NUM_THREADS)
-  int empty_frames = 60;          // --bench: frames of an empty packet, the baseline
+  int empty_frames = 120;         // --bench: frames of an empty packet, the baseline (half
+                                  // before the run, half after)
   int gpu_timing_frames = 40;     // headless: frames after the warm-up whose GPU passes are
                                   // timed (at most half the frames after it)
 };

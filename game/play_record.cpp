@@ -67,6 +67,8 @@ std::string to_json(const PlayRecord& r) {
                 {"render_ms", s.render_ms},
                 {"gpu_frame_ms", r.gpu_frame_ms},
                 {"empty_frame_ms", r.empty_frame_ms},
+                {"empty_frame_before_ms", r.empty_frame_before_ms},
+                {"empty_frame_after_ms", r.empty_frame_after_ms},
                 {"x_empty_frame", r.empty_frame_ms > 0 ? s.median_ms / r.empty_frame_ms : 0.0}};
   j["gpu_pass_ms"] = r.gpu_pass_ms;
   j["terrain"] = {{"lod_pixels", r.terrain_lod_pixels},

@@ -26,7 +26,9 @@ struct PlayRecord {
   double load_average = -1;          // 1-minute load average at the start (-1: unknown)
   std::vector<FrameSample> samples;  // measured frames (after warm-up and the GPU-timed frames,
                                      // no captures)
-  double empty_frame_ms = 0;         // median frame of an empty packet (clear + tonemap)
+  double empty_frame_ms = 0;  // median frame of an empty packet (clear + tonemap), over frames
+                              // rendered before and after the run (half each)
+  double empty_frame_before_ms = 0, empty_frame_after_ms = 0;  // each half's median
   // Mean GPU time per pass (timestamps), over `gpu_timed_frames` frames rendered right after the
   // warm-up and left out of `samples`: on lavapipe timing a frame slows it (docs/play.md).
   std::map<std::string, double> gpu_pass_ms;

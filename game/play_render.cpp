@@ -156,8 +156,9 @@ void print_frame_summary(const std::vector<FrameSample>& samples, int sim_thread
       lp ? lp : "(default)");
 }
 
-// Median frame time of an empty packet (clear + tonemap), the same-run baseline of --bench.
-double empty_frame_ms(render::Renderer& renderer, render::Target& target, int frames) {
+// Frame times of an empty packet (clear + tonemap), the same-run baseline of --bench.
+std::vector<FrameSample> empty_frames(render::Renderer& renderer, render::Target& target,
+                                      int frames) {
   render::RenderPacket empty;
   empty.view.sky = empty.view.terrain = empty.view.meshes = empty.view.debug = false;
   std::vector<FrameSample> samples;
@@ -167,7 +168,7 @@ double empty_frame_ms(render::Renderer& renderer, render::Target& target, int fr
     if (f >= 5) samples.push_back({ms_since(t0), 0, 0});
   }
   renderer.wait_idle();
-  return summarize(samples).median_ms;  // the same median as the demo's frames
+  return samples;
 }
 
 // Other thread splits of the same run, as child processes; their JSON records.
@@ -256,7 +257,10 @@ int run_headless(const Options& o) {
     for (int i = 0; i < k; ++i)
       shots.push_back(k == 1 ? frames - 1 : sim.warmup + (frames - 1 - sim.warmup) * i / (k - 1));
   }
-  if (!o.bench.empty()) record.empty_frame_ms = empty_frame_ms(renderer, target, o.empty_frames);
+  // The baseline before and after the run (half each), so that a machine whose speed drifts
+  // during the run moves the baseline with it.
+  std::vector<FrameSample> baseline;
+  if (!o.bench.empty()) baseline = empty_frames(renderer, target, o.empty_frames / 2);
   std::vector<std::string> written;
   std::vector<FrameSample> samples;
   double triangles = 0;
@@ -296,6 +300,11 @@ int run_headless(const Options& o) {
   }
   renderer.wait_idle();
   if (!o.bench.empty()) {
+    record.empty_frame_before_ms = summarize(baseline).median_ms;
+    const std::vector<FrameSample> after = empty_frames(renderer, target, o.empty_frames / 2);
+    record.empty_frame_after_ms = summarize(after).median_ms;
+    baseline.insert(baseline.end(), after.begin(), after.end());
+    record.empty_frame_ms = summarize(baseline).median_ms;  // the demo frames' median definition
     // The last frame at the scene's level of detail and at full detail, compared.
     render::RenderPacket packet = sim.world.resource<render::RenderPacket>();
     const auto lod = renderer.capture(packet, target);

@@ -27,7 +27,9 @@ def tables(r):
         "| --- | --- | --- |",
         f"| frame rate | {f['fps']:.1f} fps (mean {f['mean_ms']:.2f} ms) | >= 30 fps |",
         f"| frame time median / p95 | {f['median_ms']:.2f} / {f['p95_ms']:.2f} ms | - |",
-        f"| empty frame, same run (clear + tonemap) | {f['empty_frame_ms']:.2f} ms | - |",
+        f"| empty frame, same run (clear + tonemap; before / after the run) | "
+        f"{f['empty_frame_ms']:.2f} ms ({f.get('empty_frame_before_ms', 0):.2f} / "
+        f"{f.get('empty_frame_after_ms', 0):.2f}) | - |",
         f"| median frame / empty frame | {f['x_empty_frame']:.2f}x | <= 4x |",
         f"| simulation / render record + submit (mean) | {f['simulation_ms']:.2f} / "
         f"{f['render_ms']:.2f} ms | - |",

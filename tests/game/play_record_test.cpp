@@ -32,6 +32,9 @@ TEST(PlayRecord, JsonHoldsTheRunAndIgnoresBrokenSplits) {
   r.frames = 3;
   r.samples = {{20, 8, 12}, {30, 9, 21}, {25, 7, 18}};
   r.empty_frame_ms = 5;
+  r.empty_frame_before_ms = 4.5;
+  r.empty_frame_after_ms = 5.5;
+  r.gpu_timed_frames = 40;
   r.terrain_triangles = 1234;
   r.lavapipe_threads = "2";
   PlayRecord child = r;
@@ -42,6 +45,8 @@ TEST(PlayRecord, JsonHoldsTheRunAndIgnoresBrokenSplits) {
   EXPECT_EQ(j["version"], 1);
   EXPECT_DOUBLE_EQ(j["frame"]["median_ms"].get<double>(), 25.0);
   EXPECT_DOUBLE_EQ(j["frame"]["x_empty_frame"].get<double>(), 5.0);
+  EXPECT_DOUBLE_EQ(j["frame"]["empty_frame_after_ms"].get<double>(), 5.5);
+  EXPECT_EQ(j["run"]["gpu_timed_frames"], 40);
   EXPECT_EQ(j["terrain"]["triangles"], 1234);
   EXPECT_EQ(j["threads"]["lavapipe"], "2");
   ASSERT_EQ(j["splits"].size(), 1u) << "a split whose output is not a record is left out";
