@@ -31,6 +31,8 @@ def tables(r):
         f"{f['empty_frame_ms']:.2f} ms ({f.get('empty_frame_before_ms', 0):.2f} / "
         f"{f.get('empty_frame_after_ms', 0):.2f}) | - |",
         f"| median frame / empty frame | {f['x_empty_frame']:.2f}x | <= 4x |",
+        f"| headroom for later systems: to 30 fps / to 4x the empty frame | "
+        f"{1000 / 30 - f['median_ms']:.2f} / {4 * f['empty_frame_ms'] - f['median_ms']:.2f} ms | - |",
         f"| simulation / render record + submit (mean) | {f['simulation_ms']:.2f} / "
         f"{f['render_ms']:.2f} ms | - |",
         f"| GPU frame (timestamps, timed frames) | {f['gpu_frame_ms']:.2f} ms | - |",

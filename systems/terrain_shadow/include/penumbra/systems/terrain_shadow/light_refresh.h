@@ -20,8 +20,8 @@
 // Spreading. Stale tiles are re-shaded worst first (bound over threshold), at most `budget`
 // of the terrain's texels per frame; the rest wait, their bound growing until they come first.
 // Tiles never shaded, or whose terrain changed, are stale whatever the bound and come before
-// all others (brightest light first). The radial horizon sweep of a light then needs to reach
-// only the farthest tile re-shaded (reach()).
+// all others (brightest light first). The radial horizon sweep of a light then runs only along
+// the lines through the tiles re-shaded (RadialHorizonSweep::run with regions).
 //
 // Threading: one thread calls everything (the lights system).
 #pragma once

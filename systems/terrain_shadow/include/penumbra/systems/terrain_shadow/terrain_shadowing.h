@@ -148,8 +148,8 @@ class TerrainShadowing {
                            std::vector<glm::vec3>& irradiance);
   // The same for the texels of `regions` only (irradiance must already have one value per
   // texel; others are left as they are): what add_spherical_light adds there, bit for bit.
-  // With kCapHorizon and kSweep the light's horizon sweep reaches only as far as the farthest
-  // region (light_refresh.h).
+  // With kCapHorizon and kSweep the light's horizon sweep runs only along the lines through
+  // the regions, each as far as their farthest texel on it (RadialHorizonSweep::run).
   void add_spherical_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
                            std::vector<glm::vec3>& irradiance, std::span<const TexelRect> regions);
 
