@@ -25,6 +25,7 @@
 #include "penumbra/render/window.h"
 #include "penumbra/render/window_target.h"
 #include "penumbra/systems/render_extract/render_extract.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_state.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 #include "play.h"
 #include "play_record.h"
@@ -92,17 +93,18 @@ struct Sim {
     const jobs::FrameStats& stats = executor.run(schedule, world);
     if (frame >= warmup) {
       table.add(stats);
-      if (const auto* cache = world.try_resource<terrain_shadow::TerrainShadowCache>())
-        for (const auto& e : cache->entries) {
-          const terrain_shadow::LightRefreshStats& r = e.refresh.stats();
-          ++light_frames;
-          light_tiles = r.tiles;
-          light_tiles_total += r.refreshed;
-          light_observed += r.observed_texels;
-          light_visible += r.observed_visible;
-          light_worst_observed = std::max(light_worst_observed, double(r.worst_observed));
-          light_worst_deferred = std::max(light_worst_deferred, double(r.worst_deferred));
-        }
+      // Between frames, outside the job graph: the system's state is safe to read here.
+      world.query<const terrain_shadow::TerrainShadowState>().each(
+          [&](const terrain_shadow::TerrainShadowState& x) {
+            const terrain_shadow::LightRefreshStats& r = x.refresh.stats();
+            ++light_frames;
+            light_tiles = r.tiles;
+            light_tiles_total += r.refreshed;
+            light_observed += r.observed_texels;
+            light_visible += r.observed_visible;
+            light_worst_observed = std::max(light_worst_observed, double(r.worst_observed));
+            light_worst_deferred = std::max(light_worst_deferred, double(r.worst_deferred));
+          });
     }
     if (!options.trace.empty() && frames > 0 && frame >= frames - 3) traced.push_back(stats);
     return stats;

@@ -22,6 +22,7 @@
 #include "penumbra/sh/projection.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
+#include "penumbra/systems/terrain_shadow/terrain_horizons.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 
 namespace penumbra::game {
@@ -33,7 +34,7 @@ using components::FrameTime;
 using components::SphericalLight;
 using components::Terrain;
 using components::TerrainLighting;
-using terrain_shadow::TerrainShadowCache;
+using terrain_shadow::TerrainHorizons;
 
 constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kFrameSeconds = 1.0f / 30.0f;
@@ -129,15 +130,19 @@ void debug_view(ecs::World& w) {
     packet.spheres.push_back({l.position, l.radius, c * 4.0f});
   });
   const HorizonProbe* probe = w.try_resource<HorizonProbe>();
-  const auto* cache = w.try_resource<TerrainShadowCache>();
-  if (!probe || !probe->enabled || !cache) return;
-  for (const TerrainShadowCache::Entry& e : cache->entries) {
-    const Terrain* t = w.get<Terrain>(e.entity);
-    if (!t || !t->heights || !e.shadowing->ready()) continue;
+  if (!probe || !probe->enabled) return;
+  w.query<const Terrain, const TerrainHorizons>().each([&](const Terrain& terrain,
+                                                           const TerrainHorizons& h) {
+    const Terrain* t = &terrain;
+    if (!t->heights || !h.horizons || !h.normals) return;
+    const terrain_shadow::HorizonGrid& g = *h.horizons;
+    const assets::HeightField& f = *t->heights;
+    if (g.width != f.width || g.height != f.height || g.azimuths == 0) return;  // not yet swept
     int x, y;
-    if (!pick_texel(w.resource<Camera>(), *probe, *t, x, y)) continue;
-    const terrain_shadow::HorizonGrid& g = e.shadowing->horizons();
-    const glm::vec3 p = t->origin + e.shadowing->position(x, y) + glm::vec3(0, 0, 5);
+    if (!pick_texel(w.resource<Camera>(), *probe, *t, x, y)) return;
+    const glm::vec3 p = t->origin +
+                        glm::vec3(x * f.cell_size, y * f.cell_size, t->height_scale * f.at(x, y)) +
+                        glm::vec3(0, 0, 5);
     const float len = 12.0f * t->heights->cell_size;
     glm::vec3 first{}, prev{};
     for (int k = 0; k < g.azimuths; ++k) {
@@ -152,10 +157,8 @@ void debug_view(ecs::World& w) {
     }
     packet.lines.push_back({prev, first, {4.0f, 1.0f, 0.3f}});
     packet.lines.push_back(
-        {p,
-         p + len * e.shadowing->normals()[static_cast<std::size_t>(y) * g.width + x],
-         {0.5f, 2.0f, 4.0f}});
-  }
+        {p, p + len * (*h.normals)[static_cast<std::size_t>(y) * g.width + x], {0.5f, 2.0f, 4.0f}});
+  });
 }
 
 }  // namespace
@@ -207,7 +210,7 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
   terrain_shadow::add_terrain_shadow_systems(s);
   systems::add_render_extract(s);
   s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
-      .reads<Camera, Terrain, TerrainShadowCache, SphericalLight, HorizonProbe>()
+      .reads<Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe>()
       .writes<render::RenderPacket>();
 }
 

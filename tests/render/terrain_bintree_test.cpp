@@ -152,7 +152,8 @@ TEST(TerrainBintree, EveryTriangleIsWithinThePixelBudget) {
     for (int y = std::min({a.y, b.y, c.y}); y <= std::max({a.y, b.y, c.y}); ++y)
       for (int x = std::min({a.x, b.x, c.x}); x <= std::max({a.x, b.x, c.x}); ++x) {
         const glm::ivec2 p(x, y);
-        const long long w0 = twice_area(a, b, p), w1 = twice_area(b, c, p), w2 = twice_area(c, a, p);
+        const long long w0 = twice_area(a, b, p), w1 = twice_area(b, c, p),
+                        w2 = twice_area(c, a, p);
         if (w0 < 0 || w1 < 0 || w2 < 0) continue;
         const double total = static_cast<double>(w0 + w1 + w2);
         const double plane = (w1 * pa.z + w2 * pb.z + w0 * pc.z) / total;
@@ -171,7 +172,8 @@ TEST(TerrainBintree, EveryTriangleIsWithinThePixelBudget) {
   EXPECT_GT(checked, 50);
   EXPECT_LT(checked, 2 * 64 * 64 / 2) << "the budget coarsens";
   EXPECT_EQ(TerrainBintree::projected_pixels(1.0f, eye, 0.5f, uncull(1.0f, eye)),
-            std::numeric_limits<float>::infinity()) << "the eye in the sphere";
+            std::numeric_limits<float>::infinity())
+      << "the eye in the sphere";
   EXPECT_EQ(over, 0);
 }
 

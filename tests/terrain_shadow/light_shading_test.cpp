@@ -353,9 +353,9 @@ TEST(LightShading, RadialSweepOverRegionsEqualsFullSweepThere) {
   auto f = mountains(64);
   const std::vector<TexelRect> regions = {
       {0, 0, 16, 16}, {48, 32, 64, 48}, {20, 40, 36, 56}, {29, 18, 33, 23}, {60, 0, 64, 64}};
-  for (const glm::vec2 foot : {glm::vec2(30.5f, 20.0f), glm::vec2(40.0f, 51.0f),
-                               glm::vec2(-20.0f, 30.0f), glm::vec2(70.0f, -3.0f),
-                               glm::vec2(31.0f, 20.0f)}) {
+  for (const glm::vec2 foot :
+       {glm::vec2(30.5f, 20.0f), glm::vec2(40.0f, 51.0f), glm::vec2(-20.0f, 30.0f),
+        glm::vec2(70.0f, -3.0f), glm::vec2(31.0f, 20.0f)}) {
     RadialHorizonSweep full, limited;
     full.run(*f, 1.5f, foot * f->cell_size);
     limited.run(*f, 1.5f, foot * f->cell_size, std::numeric_limits<float>::infinity(), regions);

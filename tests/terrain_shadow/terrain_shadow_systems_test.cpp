@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "penumbra/assets/procedural.h"
 #include "penumbra/components/environment_light.h"
@@ -13,6 +14,8 @@
 #include "penumbra/components/terrain.h"
 #include "penumbra/jobs/executor.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
+#include "penumbra/systems/terrain_shadow/terrain_horizons.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_state.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -53,8 +56,10 @@ struct Fixture {
     }
     FAIL() << "the lights did not settle";
   }
-  const TerrainShadowCache::Entry& entry() {
-    return world.resource<TerrainShadowCache>().entries.at(0);
+  const TerrainShadowState& entry() {
+    const TerrainShadowState* x = world.get<TerrainShadowState>(terrain);
+    if (!x) throw std::runtime_error("the terrain has no TerrainShadowState");
+    return *x;
   }
   const TerrainLighting& lighting() { return *world.get<TerrainLighting>(terrain); }
 };
@@ -105,7 +110,7 @@ TEST(TerrainShadowSystems, MovedLightIsSpreadOverFramesAndConverges) {
   }
   EXPECT_GE(frames, 2);
   EXPECT_LE(frames, 4);
-  TerrainShadowing<kSystemBands> whole(f.world.resource<TerrainShadowCache>().config);
+  TerrainShadowing<kSystemBands> whole(f.world.resource<TerrainShadowSettings>().config);
   const Terrain& t = *f.world.get<Terrain>(f.terrain);
   whole.update(t.heights, t.height_scale);
   std::vector<glm::vec3> expected;
@@ -152,12 +157,29 @@ TEST(TerrainShadowSystems, BrushEditUpdatesIncrementally) {
   EXPECT_TRUE(f.entry().last_update.full);
 }
 
-TEST(TerrainShadowSystems, DestroyedTerrainIsForgotten) {
+// The state lives in component storage: it goes with the entity, and with the Terrain.
+TEST(TerrainShadowSystems, StateGoesWithTheTerrain) {
   Fixture f;
   f.frame();
-  f.world.destroy(f.terrain);
+  ASSERT_NE(f.world.get<TerrainShadowState>(f.terrain), nullptr);
+  const TerrainHorizons* h = f.world.get<TerrainHorizons>(f.terrain);
+  ASSERT_NE(h, nullptr);
+  EXPECT_EQ(h->horizons->width, 32);
+  EXPECT_EQ(h->horizons->azimuths, 8);
+  EXPECT_EQ(h->normals->size(), 32u * 32u);
+  EXPECT_EQ(h->horizons.get(), &f.entry().shadowing->horizons()) << "published, not copied";
+  f.world.remove<Terrain>(f.terrain);
   f.frame();
-  EXPECT_TRUE(f.world.resource<TerrainShadowCache>().entries.empty());
+  EXPECT_EQ(f.world.get<TerrainShadowState>(f.terrain), nullptr);
+  EXPECT_EQ(f.world.get<TerrainHorizons>(f.terrain), nullptr);
+
+  Fixture g;
+  g.frame();
+  g.world.destroy(g.terrain);
+  g.frame();
+  std::size_t states = 0;
+  g.world.query<const TerrainShadowState>().each([&](const TerrainShadowState&) { ++states; });
+  EXPECT_EQ(states, 0u);
 }
 
 }  // namespace

@@ -119,9 +119,8 @@ void Renderer::write_camera(FrameContext& ctx) {
   point_size = device_->large_points()
                    ? std::min(point_size, device_->properties().limits.pointSizeRange[1])
                    : 1.0f;
-  c.params =
-      glm::vec4(p.view.lighting_only ? 1.0f : 0.0f, point_size, p.sky.environment_intensity,
-                p.sky.environment_rotation);
+  c.params = glm::vec4(p.view.lighting_only ? 1.0f : 0.0f, point_size, p.sky.environment_intensity,
+                       p.sky.environment_rotation);
   const Slice s = ctx.ring.upload(&c, sizeof c);
   ctx.camera = {s.buffer, s.offset, sizeof c};
 }

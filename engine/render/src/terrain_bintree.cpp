@@ -13,7 +13,9 @@ namespace {
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
-bool has_midpoint(int ax, int ay, int bx, int by) { return (ax + bx) % 2 == 0 && (ay + by) % 2 == 0; }
+bool has_midpoint(int ax, int ay, int bx, int by) {
+  return (ax + bx) % 2 == 0 && (ay + by) % 2 == 0;
+}
 
 long long cross(int ux, int uy, int vx, int vy) {
   return static_cast<long long>(ux) * vy - static_cast<long long>(uy) * vx;
@@ -60,7 +62,7 @@ bool TerrainBintree::outside(const Triangle& t) const {
 
 glm::vec3 TerrainBintree::position(int x, int y) const {
   return glm::vec3(static_cast<float>(x) * cell_, static_cast<float>(y) * cell_,
-                             heights_[static_cast<std::size_t>(y) * width_ + x]);
+                   heights_[static_cast<std::size_t>(y) * width_ + x]);
 }
 
 float TerrainBintree::triangle_error(const Triangle& t) const {
@@ -121,8 +123,8 @@ void TerrainBintree::build(const assets::HeightField& field) {
       float& E = error_[m];
       float& R = radius_[m];
       E = std::max(E, e);
-      for (const glm::ivec2 v : {glm::ivec2(t.ax, t.ay), glm::ivec2(t.bx, t.by),
-                                 glm::ivec2(t.cx, t.cy)})
+      for (const glm::ivec2 v :
+           {glm::ivec2(t.ax, t.ay), glm::ivec2(t.bx, t.by), glm::ivec2(t.cx, t.cy)})
         R = std::max(R, glm::distance(position(v.x, v.y), pm) + e);
       if (depth + 1 == depth_) return;  // the children are grid cells: no midpoints
       for (const glm::ivec2 c : {glm::ivec2((t.cx + t.ax) / 2, (t.cy + t.ay) / 2),
@@ -170,7 +172,8 @@ void TerrainBintree::refine(const Triangle& t, const View& view, const glm::vec4
   ++count;
 }
 
-std::size_t TerrainBintree::triangulate(const View& view, std::vector<std::uint32_t>& indices) const {
+std::size_t TerrainBintree::triangulate(const View& view,
+                                        std::vector<std::uint32_t>& indices) const {
   if (size_ == 0) return 0;
   // Frustum planes (Vulkan clip space: -w <= x, y <= w, 0 <= z <= w), normalised.
   glm::vec4 rows[4];

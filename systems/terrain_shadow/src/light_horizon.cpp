@@ -169,7 +169,8 @@ void RadialHorizonSweep::limit_lines(Side& side, std::span<const TexelRect> regi
     const int k_lo = std::max(std::min(ka, kb), 0);
     const int k_hi = std::min(std::max(ka, kb), side.columns - 1);
     if (k_lo > k_hi) continue;
-    const float ru_lo = std::max(side.sign * (static_cast<float>(side.u_first + side.sign * k_lo) - fu), 1e-6f);
+    const float ru_lo =
+        std::max(side.sign * (static_cast<float>(side.u_first + side.sign * k_lo) - fu), 1e-6f);
     const float ru_hi = side.sign * (static_cast<float>(side.u_first + side.sign * k_hi) - fu);
     float m_lo = 1, m_hi = -1;
     for (const float rv : {static_cast<float>(va) - fv, static_cast<float>(vb) - fv})

@@ -10,6 +10,8 @@
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/sh/rotation.h"
+#include "penumbra/systems/terrain_shadow/terrain_horizons.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_state.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -18,48 +20,68 @@ using components::EnvironmentLight;
 using components::SphericalLight;
 using components::Terrain;
 using components::TerrainLighting;
-using Entry = TerrainShadowCache::Entry;
 
-Entry& entry_for(TerrainShadowCache& cache, ecs::Entity e) {
-  for (Entry& x : cache.entries)
-    if (x.entity == e) return x;
-  cache.entries.emplace_back();
-  cache.entries.back().entity = e;
-  cache.entries.back().shadowing = std::make_unique<TerrainShadowing<kSystemBands>>(cache.config);
-  cache.entries.back().refresh = LightRefresh(cache.light_refresh);
-  return cache.entries.back();
+TerrainShadowState new_state(const TerrainShadowSettings& settings) {
+  TerrainShadowState x;
+  x.shadowing = std::make_shared<TerrainShadowing<kSystemBands>>(settings.config);
+  x.refresh = LightRefresh(settings.light_refresh);
+  return x;
 }
 
-void update_visibility(ecs::World& w) {
-  auto& cache = w.resource<TerrainShadowCache>();
-  // Forget terrains that went away.
-  std::erase_if(cache.entries,
-                [&](const Entry& x) { return !w.alive(x.entity) || !w.get<Terrain>(x.entity); });
+// Brings x's visibility up to date with t; false when nothing changed.
+bool update_visibility(TerrainShadowState& x, const Terrain& t) {
+  if (x.field == t.heights.get() && x.version == t.version &&
+      x.shadowing->height_scale() == t.height_scale)
+    return false;
+  const bool one_edit = x.field != nullptr && t.version == x.version + 1;
+  x.last_update =
+      one_edit ? x.shadowing->update_edit(t.heights, t.height_scale,
+                                          {t.edited.x0, t.edited.y0, t.edited.x1, t.edited.y1})
+               : x.shadowing->update(t.heights, t.height_scale);
+  x.field = t.heights.get();
+  x.version = t.version;
+  ++x.visibility_stamp;
+  return true;
+}
+
+void update_visibility(jobs::SystemContext& ctx) {
+  ecs::World& w = ctx.world();
+  const auto& settings = w.resource<TerrainShadowSettings>();
+  // State of terrains that went away (the entity is alive, its Terrain or heights are not).
+  std::vector<ecs::Entity> gone;
+  w.query<const TerrainShadowState>().each([&](ecs::Entity e, const TerrainShadowState&) {
+    const Terrain* t = w.get<Terrain>(e);
+    if (!t || !t->heights) gone.push_back(e);
+  });
+  for (ecs::Entity e : gone) {
+    ctx.commands().remove<TerrainShadowState>(e);
+    ctx.commands().remove<TerrainHorizons>(e);
+  }
   w.query<const Terrain>().each([&](ecs::Entity e, const Terrain& t) {
     if (!t.heights) return;
-    Entry& x = entry_for(cache, e);
-    if (x.field == t.heights.get() && x.version == t.version &&
-        x.shadowing->height_scale() == t.height_scale)
+    if (TerrainShadowState* x = w.get_mut<TerrainShadowState>(e)) {
+      update_visibility(*x, t);
       return;
-    const bool one_edit = x.field != nullptr && t.version == x.version + 1;
-    x.last_update =
-        one_edit ? x.shadowing->update_edit(t.heights, t.height_scale,
-                                            {t.edited.x0, t.edited.y0, t.edited.x1, t.edited.y1})
-                 : x.shadowing->update(t.heights, t.height_scale);
-    x.field = t.heights.get();
-    x.version = t.version;
-    ++x.visibility_stamp;
+    }
+    // A new terrain: its state and what it publishes arrive with the next sync point, before
+    // terrain_shadow.lights.
+    TerrainShadowState x = new_state(settings);
+    update_visibility(x, t);
+    const auto& shadowing = x.shadowing;
+    ctx.commands().add(e, TerrainHorizons{{shadowing, &shadowing->horizons()},
+                                          {shadowing, &shadowing->normals()}});
+    ctx.commands().add(e, std::move(x));
   });
 }
 
 void update_lights(ecs::World& w) {
-  auto& cache = w.resource<TerrainShadowCache>();
   std::vector<SphericalLight> lights;
   w.query<const SphericalLight>().each([&](const SphericalLight& l) { lights.push_back(l); });
   std::vector<LightSample> samples;
-  for (Entry& x : cache.entries) {
-    const Terrain* t = w.get<Terrain>(x.entity);
-    if (!t || !x.shadowing->ready()) continue;
+  w.query<const Terrain, TerrainShadowState>().each([&](const Terrain& terrain,
+                                                        TerrainShadowState& x) {
+    const Terrain* t = &terrain;
+    if (!x.shadowing->ready()) return;
     const assets::HeightField& f = x.shadowing->field();
     const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
     if (x.refresh_visibility != x.visibility_stamp || x.refresh_origin != t->origin) {
@@ -77,7 +99,7 @@ void update_lights(ecs::World& w) {
     for (const SphericalLight& l : lights)
       samples.push_back({l.position - t->origin, l.radius, l.radiance});
     const std::vector<TexelRect>& tiles = x.refresh.plan(samples);
-    if (tiles.empty()) continue;
+    if (tiles.empty()) return;
     x.refresh.keep_previous(x.light_irradiance);
     for (const TexelRect& r : tiles)
       for (int y = r.y0; y < r.y1; ++y)
@@ -87,20 +109,20 @@ void update_lights(ecs::World& w) {
       x.shadowing->add_spherical_light(l.centre, l.radius, l.radiance, x.light_irradiance, tiles);
     x.refresh.commit(&x.light_irradiance);
     ++x.lights_stamp;
-  }
+  });
 }
 
 void compose(ecs::World& w) {
-  auto& cache = w.resource<TerrainShadowCache>();
   const EnvironmentLight* env = w.try_resource<EnvironmentLight>();
-  for (Entry& x : cache.entries) {
-    TerrainLighting* out = w.get_mut<TerrainLighting>(x.entity);
-    if (!out || !x.shadowing->ready()) continue;
+  w.query<TerrainShadowState, TerrainLighting>().each([&](TerrainShadowState& x,
+                                                          TerrainLighting& lighting) {
+    TerrainLighting* out = &lighting;
+    if (!x.shadowing->ready()) return;
     const std::uint64_t env_version = env ? env->version + 1 : 0;
     const float rotation = env ? env->rotation_z : 0.0f;
     if (x.composed_visibility == x.visibility_stamp && x.composed_lights == x.lights_stamp &&
         x.composed_environment == env_version && x.composed_rotation == rotation)
-      continue;
+      return;
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
       for (int c = 0; c < 3; ++c)
@@ -120,34 +142,33 @@ void compose(ecs::World& w) {
     x.composed_lights = x.lights_stamp;
     x.composed_environment = env_version;
     x.composed_rotation = rotation;
-  }
+  });
 }
 
 }  // namespace
 
 void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config,
                                       const LightRefreshConfig& light_refresh) {
-  if (world.try_resource<TerrainShadowCache>()) return;
-  auto& cache = world.emplace_resource<TerrainShadowCache>();
-  cache.config = config;
-  cache.light_refresh = light_refresh;
+  if (world.try_resource<TerrainShadowSettings>()) return;
+  world.emplace_resource<TerrainShadowSettings>(TerrainShadowSettings{config, light_refresh});
 }
 
 void add_terrain_shadow_systems(jobs::Schedule& schedule) {
   schedule
       .add_task("terrain_shadow.visibility",
-                [](jobs::SystemContext& ctx) { update_visibility(ctx.world()); })
-      .reads<Terrain>()
-      .writes<TerrainShadowCache>();
+                [](jobs::SystemContext& ctx) { update_visibility(ctx); })
+      .reads<Terrain, TerrainShadowSettings>()
+      .writes<TerrainShadowState, TerrainHorizons>()
+      .structural<TerrainShadowState, TerrainHorizons>();
   schedule
       .add_task("terrain_shadow.lights",
                 [](jobs::SystemContext& ctx) { update_lights(ctx.world()); })
       .reads<SphericalLight, Terrain>()
-      .writes<TerrainShadowCache>();
+      .writes<TerrainShadowState>();
   schedule
       .add_task("terrain_shadow.compose", [](jobs::SystemContext& ctx) { compose(ctx.world()); })
       .reads<EnvironmentLight>()
-      .writes<TerrainShadowCache, TerrainLighting>();
+      .writes<TerrainShadowState, TerrainLighting>();
 }
 
 }  // namespace penumbra::terrain_shadow

@@ -1,0 +1,41 @@
+// TerrainShadowState: the terrain shadow system's per-entity state between frames, kept in
+// component storage beside the entity's Terrain (as EnTT and Bevy keep per-entity data), not in
+// a side table. terrain_shadow.visibility adds it (a deferred command, applied before
+// terrain_shadow.lights) the first frame it sees a Terrain with heights, and removes it when the
+// Terrain goes; it goes with the entity. Written only by the system's three tasks
+// (terrain_shadow_systems.h); other code reads what the system publishes: TerrainLighting and
+// TerrainHorizons. Tests read it to check what each frame skipped.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "penumbra/sh/basis.h"
+#include "penumbra/systems/terrain_shadow/light_refresh.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
+
+namespace penumbra::terrain_shadow {
+
+inline constexpr int kSystemBands = sh::kDefaultBands;
+
+struct TerrainShadowState {
+  // Shared with TerrainHorizons, which aliases its horizons and normals.
+  std::shared_ptr<TerrainShadowing<kSystemBands>> shadowing;
+  const assets::HeightField* field = nullptr;  // identity of the field last processed
+  std::uint64_t version = 0;
+  std::vector<glm::vec3> light_irradiance;  // sum over lights, W/m^2
+  std::uint64_t visibility_stamp = 0;       // bumped when transfer changed
+  std::uint64_t lights_stamp = 0;           // bumped when light_irradiance changed
+  std::uint64_t composed_visibility = ~0ull, composed_lights = ~0ull;
+  std::uint64_t composed_environment = ~0ull;
+  float composed_rotation = 0;
+  LightRefresh refresh;                      // which tiles the lights re-shade
+  std::uint64_t refresh_visibility = ~0ull;  // visibility_stamp the refresh tiles were made for
+  glm::vec3 refresh_origin{0.0f};
+  UpdateStats last_update;  // of the latest visibility update (for overlays, benchmarks)
+};
+
+}  // namespace penumbra::terrain_shadow
