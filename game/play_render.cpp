@@ -425,9 +425,11 @@ int run_window(const Options& o) {
       if (!s.sync)
         stats.systems.emplace_back(std::string(s.name), 1e-6 * static_cast<double>(s.duration_ns));
     stats.passes = renderer.last_pass_times();
-    render::RenderPacket& packet = sim.world.resource<render::RenderPacket>();
     overlay.build(stats, settings.view);
-    packet.view = settings.view;  // the toggles apply to this frame already
+    // The overlay's toggles apply to this frame already: a copy of the packet with them (the
+    // extract stays the packet's only writer).
+    render::RenderPacket packet = sim.world.resource<render::RenderPacket>();
+    packet.view = settings.view;
     const auto t1 = Clock::now();
     renderer.render(packet, target, {false, &overlay});
     if (f >= sim.warmup) samples.push_back({ms_since(t0), t_sim, ms_since(t1)});

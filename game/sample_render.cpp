@@ -8,6 +8,7 @@
 
 #include "penumbra/assets/height_field.h"
 #include "penumbra/components/camera.h"
+#include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/motion.h"
@@ -19,6 +20,8 @@
 namespace penumbra::game {
 namespace {
 using components::Camera;
+using components::DebugPoints;
+using components::DebugSphere;
 using components::FrameTime;
 using components::Position;
 
@@ -67,9 +70,12 @@ void populate_sample_scene(ecs::World& world, const SampleSceneConfig& config) {
       field->heights.push_back(
           terrain_height(static_cast<float>(x) - half, static_cast<float>(y) - half));
   auto lighting = light_terrain(*field, settings.sky);
-  world.create_with(
-      components::Terrain{field, {-half, -half, kTerrainDepth}, {0.38f, 0.42f, 0.3f}},
-      components::TerrainLighting{lighting, field->width, field->height});
+  world.create_with(components::Terrain{field, {-half, -half, kTerrainDepth}, {0.38f, 0.42f, 0.3f}},
+                    components::TerrainLighting{lighting, field->width, field->height});
+  // Debug geometry filled each frame: the particles as points, each light as a wire sphere.
+  world.create_with(DebugPoints{});
+  if (const SampleLights* lights = world.try_resource<SampleLights>())
+    for (std::size_t i = 0; i < lights->count; ++i) world.create_with(DebugSphere{});
 }
 
 void add_sample_render_systems(jobs::Schedule& s, const SampleSceneConfig& config) {
@@ -86,42 +92,46 @@ void add_sample_render_systems(jobs::Schedule& s, const SampleSceneConfig& confi
       .reads<FrameTime>()
       .writes<Camera>();
 
-  systems::add_render_extract(s);
-
   const float gain = config.particle_gain;
   const std::size_t max_points = config.max_points;
-  s.add_task("extract_particles",
-             [gain, max_points](jobs::SystemContext& ctx) {
-               auto& points = ctx.world().resource<render::RenderPacket>().points;
-               auto q = ctx.world().query<const Position, const Irradiance>();
-               q.prepare();
-               const std::size_t n = q.entity_count();
-               const std::size_t step =
-                   max_points == 0 || n <= max_points ? 1 : (n + max_points - 1) / max_points;
-               std::size_t i = 0;
-               q.each([&](const Position& p, const Irradiance& e) {
-                 if (i++ % step != 0) return;
-                 points.push_back({{p.x, p.y, p.z},
-                                   {gain * e.r + 0.02f, gain * e.g + 0.02f, gain * e.b + 0.02f}});
-               });
-             })
+  s.add_task(
+       "extract_particles",
+       [gain, max_points](jobs::SystemContext& ctx) {
+         ecs::World& w = ctx.world();
+         auto q = w.query<const Position, const Irradiance>();
+         q.prepare();
+         const std::size_t n = q.entity_count();
+         const std::size_t step =
+             max_points == 0 || n <= max_points ? 1 : (n + max_points - 1) / max_points;
+         w.query<DebugPoints>().each([&](DebugPoints& out) {
+           out.points.clear();
+           std::size_t i = 0;
+           q.each([&](const Position& p, const Irradiance& e) {
+             if (i++ % step != 0) return;
+             out.points.push_back(
+                 {{p.x, p.y, p.z}, {gain * e.r + 0.02f, gain * e.g + 0.02f, gain * e.b + 0.02f}});
+           });
+         });
+       })
       .reads<Position, Irradiance>()
-      .writes<render::RenderPacket>();
+      .writes<DebugPoints>();
 
   s.add_task(
        "extract_lights",
        [](jobs::SystemContext& ctx) {
          const SampleLights& l = ctx.world().resource<SampleLights>();
-         auto& spheres = ctx.world().resource<render::RenderPacket>().spheres;
-         for (std::size_t i = 0; i < l.count; ++i) {
-           const PointLight& p = l.lights[i];
+         std::size_t i = 0;
+         ctx.world().query<DebugSphere>().each([&](DebugSphere& sphere) {
+           if (i >= l.count) return;
+           const PointLight& p = l.lights[i++];
            const glm::vec3 c(p.r, p.g, p.b);
-           spheres.push_back(
-               {{p.x, p.y, p.z}, 2.0f, c / std::max(1.0f, std::max(c.x, std::max(c.y, c.z)))});
-         }
+           sphere = {{p.x, p.y, p.z}, 2.0f, c / std::max(1.0f, std::max(c.x, std::max(c.y, c.z)))};
+         });
        })
       .reads<SampleLights>()
-      .writes<render::RenderPacket>();
+      .writes<DebugSphere>();
+
+  systems::add_render_extract(s);
 }
 
 }  // namespace penumbra::game

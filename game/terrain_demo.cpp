@@ -13,6 +13,7 @@
 #include "penumbra/assets/height_field.h"
 #include "penumbra/assets/heightmap.h"
 #include "penumbra/components/camera.h"
+#include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/lighting_result.h"
@@ -29,6 +30,8 @@ namespace penumbra::game {
 namespace {
 
 using components::Camera;
+using components::DebugLines;
+using components::DebugSphere;
 using components::EnvironmentLight;
 using components::FrameTime;
 using components::SphericalLight;
@@ -123,18 +126,20 @@ bool pick_texel(const Camera& c, const HorizonProbe& probe, const Terrain& t, in
   return false;
 }
 
+// The debug geometry, as components for the render extract: the light as a wire sphere, and
+// the horizon wedges (and normal) of the texel under the probe as the terrain's DebugLines.
 void debug_view(ecs::World& w) {
-  render::RenderPacket& packet = w.resource<render::RenderPacket>();
-  w.query<const SphericalLight>().each([&](const SphericalLight& l) {
+  w.query<const SphericalLight, DebugSphere>().each([&](const SphericalLight& l, DebugSphere& s) {
     const glm::vec3 c = l.radiance / std::max({l.radiance.x, l.radiance.y, l.radiance.z, 1e-6f});
-    packet.spheres.push_back({l.position, l.radius, c * 4.0f});
+    s = {l.position, l.radius, c * 4.0f};
   });
   const HorizonProbe* probe = w.try_resource<HorizonProbe>();
-  if (!probe || !probe->enabled) return;
-  w.query<const Terrain, const TerrainHorizons>().each([&](const Terrain& terrain,
-                                                           const TerrainHorizons& h) {
+  w.query<const Terrain, const TerrainHorizons, DebugLines>().each([&](const Terrain& terrain,
+                                                                       const TerrainHorizons& h,
+                                                                       DebugLines& out) {
+    out.lines.clear();
     const Terrain* t = &terrain;
-    if (!t->heights || !h.horizons || !h.normals) return;
+    if (!probe || !probe->enabled || !t->heights || !h.horizons || !h.normals) return;
     const terrain_shadow::HorizonGrid& g = *h.horizons;
     const assets::HeightField& f = *t->heights;
     if (g.width != f.width || g.height != f.height || g.azimuths == 0) return;  // not yet swept
@@ -150,13 +155,13 @@ void debug_view(ecs::World& w) {
       const glm::vec3 d(std::cos(phi) * std::cos(w_k), std::sin(phi) * std::cos(w_k),
                         std::sin(w_k));
       const glm::vec3 q = p + len * d;
-      packet.lines.push_back({p, q, {4.0f, 3.0f, 0.5f}});                // the horizon of azimuth k
-      if (k > 0) packet.lines.push_back({prev, q, {4.0f, 1.0f, 0.3f}});  // the wedge's rim
+      out.lines.push_back({p, q, {4.0f, 3.0f, 0.5f}});                // the horizon of azimuth k
+      if (k > 0) out.lines.push_back({prev, q, {4.0f, 1.0f, 0.3f}});  // the wedge's rim
       if (k == 0) first = q;
       prev = q;
     }
-    packet.lines.push_back({prev, first, {4.0f, 1.0f, 0.3f}});
-    packet.lines.push_back(
+    out.lines.push_back({prev, first, {4.0f, 1.0f, 0.3f}});
+    out.lines.push_back(
         {p, p + len * (*h.normals)[static_cast<std::size_t>(y) * g.width + x], {0.5f, 2.0f, 4.0f}});
   });
 }
@@ -190,8 +195,9 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   // Vertical exaggeration 2: the DEM's 840 m of relief over 19 km reads better (a usual choice
   // for terrain views; the shadow system and the renderer both apply it).
   world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}, 2.0f},
-                    TerrainLighting{});
-  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}});
+                    TerrainLighting{}, DebugLines{});
+  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
+                    DebugSphere{});
 }
 
 void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config) {
@@ -208,10 +214,10 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
       .reads<FrameTime, Terrain>()
       .writes<Camera>();
   terrain_shadow::add_terrain_shadow_systems(s);
-  systems::add_render_extract(s);
   s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
       .reads<Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe>()
-      .writes<render::RenderPacket>();
+      .writes<DebugSphere, DebugLines>();
+  systems::add_render_extract(s);
 }
 
 }  // namespace penumbra::game

@@ -12,8 +12,8 @@ glm::vec3 project(const glm::mat4& m, glm::vec3 p) {
   return glm::vec3(c) / c.w;
 }
 
-TEST(Camera, VulkanClipConventionsWithReversedDepth) {
-  Camera cam;
+TEST(CameraView, VulkanClipConventionsWithReversedDepth) {
+  CameraView cam;
   cam.position = {0, -10, 0};
   cam.target = {0, 0, 0};
   cam.near_plane = 1.0f;
@@ -28,8 +28,8 @@ TEST(Camera, VulkanClipConventionsWithReversedDepth) {
   EXPECT_GT(project(vp, {0, 0, 0}).z, project(vp, {0, 10, 0}).z) << "nearer is greater";
 }
 
-TEST(Camera, LookingAlongUpStaysFinite) {
-  Camera cam;
+TEST(CameraView, LookingAlongUpStaysFinite) {
+  CameraView cam;
   cam.position = {0, 0, 10};
   cam.target = {0, 0, 0};  // straight down, parallel to up
   const glm::mat4 v = view_matrix(cam);

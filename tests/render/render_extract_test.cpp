@@ -34,6 +34,9 @@ TEST(RenderExtract, BuildsThePacketFromComponentsSharingArrays) {
   auto texels = std::make_shared<std::vector<glm::vec3>>(64, glm::vec3(1));
   w.create_with(Terrain{heights, {1, 1, 0}, glm::vec3(0.7f)}, TerrainLighting{texels, 8, 8});
   w.create_with(DebugSphere{{0, 0, 5}, 2.0f, {1, 0, 0}});
+  w.create_with(DebugLines{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 1}}, {{0, 0, 0}, {0, 1, 0}, {1, 1, 1}}}});
+  w.create_with(DebugLines{{{{0, 0, 0}, {0, 0, 1}, {1, 1, 1}}}},
+                DebugPoints{{{{1, 2, 3}, {0, 1, 0}}}});
 
   jobs::Schedule s;
   add_render_extract(s);
@@ -53,6 +56,9 @@ TEST(RenderExtract, BuildsThePacketFromComponentsSharingArrays) {
   EXPECT_EQ(p.terrain.lighting_width, 8);
   ASSERT_EQ(p.spheres.size(), 1u);
   EXPECT_EQ(p.spheres[0].radius, 2.0f);
+  EXPECT_EQ(p.lines.size(), 3u) << "every entity's lines";
+  ASSERT_EQ(p.points.size(), 1u);
+  EXPECT_EQ(p.points[0].position, glm::vec3(1, 2, 3));
 
   w.destroy(lit);
   ex.run(s, w);
@@ -80,8 +86,9 @@ TEST(RenderExtract, ScalesTerrainHeightsOncePerChange) {
 TEST(RenderExtract, OrdersAfterWritersOfItsInputs) {
   jobs::Schedule s;
   s.add_each<Transform>("move", [](Transform& t) { t.world[3][0] += 1; });
+  s.add_task("probe_lines", [](jobs::SystemContext&) {}).writes<DebugLines>();
   add_render_extract(s);
-  s.add_task("overlay_points", [](jobs::SystemContext&) {}).writes<render::RenderPacket>();
+  s.add_task("present", [](jobs::SystemContext&) {}).reads<render::RenderPacket>();
   s.build();
   auto index = [&](const std::string& name) {
     for (std::size_t i = 0; i < s.nodes().size(); ++i)
@@ -93,7 +100,8 @@ TEST(RenderExtract, OrdersAfterWritersOfItsInputs) {
     return std::find(succ.begin(), succ.end(), index(b)) != succ.end();
   };
   EXPECT_TRUE(edge("move", "render_extract")) << s.to_dot();
-  EXPECT_TRUE(edge("render_extract", "overlay_points")) << s.to_dot();
+  EXPECT_TRUE(edge("probe_lines", "render_extract")) << "debug geometry arrives as components";
+  EXPECT_TRUE(edge("render_extract", "present")) << s.to_dot();
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 
 namespace penumbra::render {
 
-glm::mat4 view_matrix(const Camera& camera) {
+glm::mat4 view_matrix(const CameraView& camera) {
   glm::vec3 up = camera.up;
   const glm::vec3 forward = camera.target - camera.position;
   // A view straight along `up` has no defined roll: pick another up rather than produce NaNs.
@@ -16,7 +16,7 @@ glm::mat4 view_matrix(const Camera& camera) {
   return glm::lookAtRH(camera.position, camera.target, up);
 }
 
-glm::mat4 projection_matrix(const Camera& camera, float aspect) {
+glm::mat4 projection_matrix(const CameraView& camera, float aspect) {
   // perspectiveRH_ZO maps near -> 0, far -> 1; passing (far, near) reverses depth.
   glm::mat4 p =
       glm::perspectiveRH_ZO(camera.vertical_fov, aspect, camera.far_plane, camera.near_plane);

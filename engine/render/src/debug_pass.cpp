@@ -6,8 +6,8 @@
 
 namespace penumbra::render {
 namespace {
-static_assert(sizeof(DebugPoint) == 6 * sizeof(float), "DebugPoint is uploaded as is");
-static_assert(sizeof(DebugSphere) == 7 * sizeof(float), "DebugSphere is uploaded as is");
+static_assert(sizeof(PointDraw) == 6 * sizeof(float), "PointDraw is uploaded as is");
+static_assert(sizeof(SphereDraw) == 7 * sizeof(float), "SphereDraw is uploaded as is");
 }  // namespace
 
 DebugPass::DebugPass(Device& device, VkFormat color_format, VkFormat depth_format)
@@ -21,9 +21,9 @@ DebugPass::DebugPass(Device& device, VkFormat color_format, VkFormat depth_forma
   d.layout = layout_.get();
   d.color_format = color_format;
   d.depth_format = depth_format;
-  d.bindings = {{0, sizeof(DebugPoint), VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.bindings = {{0, sizeof(PointDraw), VK_VERTEX_INPUT_RATE_VERTEX}};
   d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                  {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(DebugPoint, color)}};
+                  {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(PointDraw, color)}};
   d.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
   lines_ = create_pipeline(device, d);
   d.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
@@ -32,11 +32,11 @@ DebugPass::DebugPass(Device& device, VkFormat color_format, VkFormat depth_forma
   d.vertex = Shader::kDebugSphereVert;
   d.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
   d.bindings = {{0, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX},
-                {1, sizeof(DebugSphere), VK_VERTEX_INPUT_RATE_INSTANCE}};
+                {1, sizeof(SphereDraw), VK_VERTEX_INPUT_RATE_INSTANCE}};
   d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
-                  {1, 1, VK_FORMAT_R32G32B32_SFLOAT, offsetof(DebugSphere, center)},
-                  {2, 1, VK_FORMAT_R32_SFLOAT, offsetof(DebugSphere, radius)},
-                  {3, 1, VK_FORMAT_R32G32B32_SFLOAT, offsetof(DebugSphere, color)}};
+                  {1, 1, VK_FORMAT_R32G32B32_SFLOAT, offsetof(SphereDraw, center)},
+                  {2, 1, VK_FORMAT_R32_SFLOAT, offsetof(SphereDraw, radius)},
+                  {3, 1, VK_FORMAT_R32G32B32_SFLOAT, offsetof(SphereDraw, color)}};
   spheres_ = create_pipeline(device, d);
 
   // Unit wire sphere: great circles in the xy, yz and zx planes, as a line list.
@@ -71,16 +71,16 @@ void DebugPass::prepare(FrameContext& ctx) {
   sphere_count_ = static_cast<std::uint32_t>(p.spheres.size());
   line_vertices_ = static_cast<std::uint32_t>(2 * p.lines.size());
   if (point_count_ > 0)
-    point_data_ = ctx.ring.upload(p.points.data(), p.points.size() * sizeof(DebugPoint));
+    point_data_ = ctx.ring.upload(p.points.data(), p.points.size() * sizeof(PointDraw));
   if (sphere_count_ > 0)
-    sphere_data_ = ctx.ring.upload(p.spheres.data(), p.spheres.size() * sizeof(DebugSphere));
+    sphere_data_ = ctx.ring.upload(p.spheres.data(), p.spheres.size() * sizeof(SphereDraw));
   if (line_vertices_ > 0) {
     scratch_.clear();
-    for (const DebugLine& l : p.lines) {
+    for (const LineDraw& l : p.lines) {
       scratch_.push_back({l.a, l.color});
       scratch_.push_back({l.b, l.color});
     }
-    line_data_ = ctx.ring.upload(scratch_.data(), scratch_.size() * sizeof(DebugPoint));
+    line_data_ = ctx.ring.upload(scratch_.data(), scratch_.size() * sizeof(PointDraw));
   }
 }
 

@@ -30,7 +30,7 @@ bool drawable(const std::shared_ptr<const assets::HeightField>& f) {
          f->heights.size() >= static_cast<std::size_t>(f->width) * f->height;
 }
 
-bool usable(const Terrain& t) {
+bool usable(const TerrainDraw& t) {
   return t.lighting && t.lighting_width > 0 && t.lighting_height > 0 &&
          t.lighting->size() >= static_cast<std::size_t>(t.lighting_width) * t.lighting_height;
 }
@@ -117,7 +117,7 @@ void TerrainPass::upload_heights(FrameContext& ctx, const assets::HeightField& f
                  VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
-void TerrainPass::upload_lighting(FrameContext& ctx, const Terrain& t) {
+void TerrainPass::upload_lighting(FrameContext& ctx, const TerrainDraw& t) {
   const auto w = static_cast<std::uint32_t>(t.lighting_width);
   const auto h = static_cast<std::uint32_t>(t.lighting_height);
   const std::vector<glm::vec3>& rgb = *t.lighting;
@@ -135,7 +135,7 @@ void TerrainPass::upload_lighting(FrameContext& ctx, const Terrain& t) {
 }
 
 void TerrainPass::prepare(FrameContext& ctx) {
-  const Terrain& t = ctx.packet.terrain;
+  const TerrainDraw& t = ctx.packet.terrain;
   if (!drawable(t.heights)) {
     heights_src_.reset();
   } else if (t.heights != heights_src_) {
@@ -157,7 +157,7 @@ void TerrainPass::draw(FrameContext& ctx) {
   triangles_ = 0;
   frame_indices_.clear();
   if (!heights_src_) return;
-  const Terrain& t = ctx.packet.terrain;
+  const TerrainDraw& t = ctx.packet.terrain;
   const float cell = heights_src_->cell_size;
   // The bintree's frame has sample (0, 0) at the origin.
   TerrainBintree::View view;

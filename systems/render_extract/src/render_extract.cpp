@@ -11,6 +11,10 @@ namespace penumbra::systems {
 namespace {
 using components::BaseColor;
 using components::Camera;
+using components::DebugLine;
+using components::DebugLines;
+using components::DebugPoint;
+using components::DebugPoints;
 using components::DebugSphere;
 using components::MeshInstance;
 using components::Terrain;
@@ -18,7 +22,7 @@ using components::TerrainLighting;
 using components::Transform;
 using components::VertexLighting;
 
-render::Camera to_render(const Camera& c) {
+render::CameraView to_render(const Camera& c) {
   return {c.position, c.target, c.up, c.vertical_fov, c.near_plane, c.far_plane};
 }
 }  // namespace
@@ -81,6 +85,12 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
   world.query<const DebugSphere>().each([&](const DebugSphere& s) {
     packet.spheres.push_back({s.center, s.radius, s.color});
   });
+  world.query<const DebugLines>().each([&](const DebugLines& d) {
+    for (const DebugLine& l : d.lines) packet.lines.push_back({l.a, l.b, l.color});
+  });
+  world.query<const DebugPoints>().each([&](const DebugPoints& d) {
+    for (const DebugPoint& p : d.points) packet.points.push_back({p.position, p.color});
+  });
 }
 
 jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
@@ -91,7 +101,7 @@ jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
                   extract_render_packet(w, w.resource<render::RenderPacket>(), cache.get());
                 })
       .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance, BaseColor,
-             VertexLighting, DebugSphere>()
+             VertexLighting, DebugSphere, DebugLines, DebugPoints>()
       .writes<render::RenderPacket>();
 }
 

@@ -3,11 +3,11 @@
 // particles as points coloured by their Irradiance, the point lights as small wire spheres, and
 // a camera slowly orbiting the box.
 //
-// Systems (registered after systems::add_render_extract, so they append to its packet):
+// Systems (registered before systems::add_render_extract, which draws what they leave):
 //   orbit_camera       writes Camera from FrameTime
-//   extract_particles  reads Position + Irradiance, appends packet points (every k-th particle
-//                      when there are more than max_points)
-//   extract_lights     reads SampleLights, appends packet spheres
+//   extract_particles  reads Position + Irradiance, writes the DebugPoints of the scene's
+//                      points entity (every k-th particle when there are more than max_points)
+//   extract_lights     reads SampleLights, writes the scene's DebugSphere entities
 #pragma once
 
 #include <cstddef>
@@ -26,10 +26,11 @@ struct SampleSceneConfig {
   std::size_t max_points = 50'000;
 };
 
-// Adds the camera, render settings and packet resources and the terrain entity.
+// Adds the camera, render settings and packet resources, the terrain entity, and the debug
+// entities (one DebugPoints, one DebugSphere per light of SampleLights: call after
+// populate_sample_world).
 void populate_sample_scene(ecs::World& world, const SampleSceneConfig& config = {});
-// Registers orbit_camera before the extract and the two packet writers; call after
-// add_sample_systems. Registers render_extract itself.
+// Registers the three systems, then render_extract; call after add_sample_systems.
 void add_sample_render_systems(jobs::Schedule& schedule, const SampleSceneConfig& config = {});
 
 }  // namespace penumbra::game

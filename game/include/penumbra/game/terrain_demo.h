@@ -10,7 +10,9 @@
 //                     (path), Terrain (brush edits), RenderSettings (sky rotation)
 //   demo_camera       reads FrameTime, writes Camera (slow orbit)
 //   terrain_shadow.*  (systems/terrain_shadow)
-//   render_extract, demo_debug_view (horizon wedges + the light as a wire sphere)
+//   demo_debug_view   reads TerrainHorizons, writes DebugSphere (the light's extent) and the
+//                     terrain's DebugLines (the horizon wedges under the probe)
+//   render_extract    (systems/render_extract: the packet's only writer)
 #pragma once
 
 #include <string>
@@ -29,8 +31,8 @@ struct TerrainDemoConfig {
   std::string environment = "dawn.exr";  // in data_dir/hdri: a low sun, so shadows are long
   int terrain_size = 257;  // samples per side, cropped from the DEM's centre (2^k + 1: the
                            // renderer's terrain_bintree.h splits no border)
-  float sky_rotation_speed = 0.05f;      // rad/s
-  float edit_interval = 3.0f;            // seconds between brush edits; <= 0: none
+  float sky_rotation_speed = 0.05f;  // rad/s
+  float edit_interval = 3.0f;        // seconds between brush edits; <= 0: none
   terrain_shadow::TerrainShadowConfig shadow{};
   terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
 };

@@ -12,10 +12,10 @@
 namespace penumbra::render {
 
 // World -> view (right-handed, looking down -z in view space).
-glm::mat4 view_matrix(const Camera& camera);
+glm::mat4 view_matrix(const CameraView& camera);
 // View -> clip with reversed depth; aspect = width / height.
-glm::mat4 projection_matrix(const Camera& camera, float aspect);
-inline glm::mat4 view_projection(const Camera& camera, float aspect) {
+glm::mat4 projection_matrix(const CameraView& camera, float aspect);
+inline glm::mat4 view_projection(const CameraView& camera, float aspect) {
   return projection_matrix(camera, aspect) * view_matrix(camera);
 }
 

@@ -34,7 +34,7 @@ class DebugPass {
   std::uint32_t unit_vertices_ = 0;
   Slice line_data_, point_data_, sphere_data_;
   std::uint32_t line_vertices_ = 0, point_count_ = 0, sphere_count_ = 0;
-  std::vector<DebugPoint> scratch_;
+  std::vector<PointDraw> scratch_;
 };
 
 }  // namespace penumbra::render

@@ -29,7 +29,7 @@
 
 namespace penumbra::render {
 
-struct Camera {
+struct CameraView {
   glm::vec3 position{0.0f, -10.0f, 5.0f};
   glm::vec3 target{0.0f};
   glm::vec3 up{0.0f, 0.0f, 1.0f};
@@ -38,7 +38,7 @@ struct Camera {
   float far_plane = 2000.0f;  // metres, > near_plane
 };
 
-struct Terrain {
+struct TerrainDraw {
   std::shared_ptr<const assets::HeightField> heights;  // null or < 2x2 samples: no terrain
   glm::vec3 origin{0.0f};  // world position of sample (0, 0) at height 0
   glm::vec3 albedo{0.5f};  // the shaded colour is albedo * lighting
@@ -61,16 +61,16 @@ struct MeshDraw {
 };
 
 // Debug primitives, drawn unlit with depth test (HDR colours, tonemapped like the scene).
-struct DebugSphere {  // a wire sphere (three great circles plus latitude rings)
+struct SphereDraw {  // a wire sphere (three great circles plus latitude rings)
   glm::vec3 center{0.0f};
   float radius = 1.0f;
   glm::vec3 color{1.0f};
 };
-struct DebugLine {
+struct LineDraw {
   glm::vec3 a{0.0f}, b{0.0f};
   glm::vec3 color{1.0f};
 };
-struct DebugPoint {
+struct PointDraw {
   glm::vec3 position{0.0f};
   glm::vec3 color{1.0f};
 };
@@ -102,20 +102,20 @@ struct ViewSettings {
   bool debug = true;
   bool lighting_only = false;  // albedo 1: show the lighting the systems computed
   float point_size = 2.0f;     // pixels (1 where the device lacks large points)
-  // Terrain level of detail: the largest geometric error, in pixels on screen, a coarser chunk
-  // may show (render/terrain_pass.h); 0 draws every chunk at full detail. 3: the lighting is a
+  // Terrain level of detail: the largest vertical error, in pixels on screen, a coarser
+  // triangle may show (render/terrain_bintree.h); 0: full detail. 3: the lighting is a
   // per-pixel texture, so only the shape moves (why 3 and what it costs: docs/play.md).
   float terrain_lod_pixels = 3.0f;
 };
 
 struct RenderPacket {
-  Camera camera;
+  CameraView camera;
   Sky sky;
-  Terrain terrain;
+  TerrainDraw terrain;
   std::vector<MeshDraw> meshes;
-  std::vector<DebugSphere> spheres;
-  std::vector<DebugLine> lines;
-  std::vector<DebugPoint> points;
+  std::vector<SphereDraw> spheres;
+  std::vector<LineDraw> lines;
+  std::vector<PointDraw> points;
   ViewSettings view;
 
   // Empties the per-frame lists, keeping their capacity (camera, sky, terrain, view stay).

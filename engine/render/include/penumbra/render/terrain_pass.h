@@ -40,7 +40,7 @@ class TerrainPass {
 
  private:
   void upload_heights(FrameContext& ctx, const assets::HeightField& field);
-  void upload_lighting(FrameContext& ctx, const Terrain& terrain);
+  void upload_lighting(FrameContext& ctx, const TerrainDraw& terrain);
 
   Device* device_;
   PipelineLayout layout_;

@@ -5,11 +5,11 @@
 //   Terrain [+ TerrainLighting]                       -> packet.terrain (the first such entity;
 //                                                       heights x height_scale)
 //   Transform + MeshInstance [+ BaseColor, VertexLighting] -> packet.meshes
-//   DebugSphere                                       -> packet.spheres
+//   DebugSphere, DebugLines, DebugPoints              -> packet.spheres, lines, points
 // Large arrays are shared by pointer (no copies); the packet's lists keep their capacity from
-// frame to frame. Other systems may append to the packet after it (declare
-// .writes<render::RenderPacket>(): the job graph orders writers by registration), e.g. the
-// sample world's particles as debug points.
+// frame to frame. It is the packet's only writer: whatever is to be drawn, debug geometry
+// included, arrives as components (components/debug_shapes.h), the way Filament's
+// FScene::prepare gathers renderables, so the systems that make it run before this one.
 //
 // The renderer then draws the packet after the frame's job graph has finished: it never reads
 // ECS storage, and the packet holds no pointer into it.
