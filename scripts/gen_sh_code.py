@@ -7,10 +7,10 @@
 
 
 Conventions (pinned by tests/sh/basis_test.cpp): real SH, index i = l(l+1)+m, no Condon-Shortley
-phase, band 1 ordered (y, z, x) -- 003_26ade4f22fee623d.txt appendix A, 001_ec851c01d7eb4628.txt
+phase, band 1 ordered (y, z, x) -- [Ambrosj16] appendix A, [Giraud]
 eq. 3-5. Basis polynomials follow the Legendre recurrences in Cartesian form (Sloan 2013,
 "Efficient Spherical Harmonic Evaluation"); product coefficients are the SH triple-product
-(Gaunt) tensor, 001 eq. 6, integrated exactly with Gauss-Legendre x uniform-azimuth quadrature.
+(Gaunt) tensor, [Giraud] eq. 6, integrated exactly with Gauss-Legendre x uniform-azimuth quadrature.
 """
 import math
 import sys

@@ -1,5 +1,5 @@
 // Benchmark group "terrain": speed and accuracy of the terrain shadow system
-// (systems/terrain_shadow, 000_7ffde676d1c99e20.txt ch. 4-6) on this machine's 2 threads.
+// (systems/terrain_shadow, [Meier13] ch. 4-6) on this machine's 2 threads.
 //
 //   build/release/tests/bench/bench_terrain [--benchmark_* flags] [--summary_out=PATH]
 //       [--records_out=PATH.json] [--chart_out=PATH.svg]

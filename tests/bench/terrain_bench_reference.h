@@ -4,7 +4,7 @@
 // irradiance grid against it. Everything the benchmark group "terrain" needs from the reference
 // goes through here, so terrain_bench.cpp does not depend on that library's details.
 //
-// Scene: "mountains" (fBm, 256 m across, about 1 m cells at 256 x 256; 000 ch. 6), heights x 1,
+// Scene: "mountains" (fBm, 256 m across, about 1 m cells at 256 x 256; [Meier13] ch. 6), heights x 1,
 // under ../shared/data/hdri/sunset.exr (the demo's map), unrotated. Receivers: every 8th texel
 // (32 x 32 at 256 x 256), kSamples directions each (MIS), ground plane as in the accuracy tests.
 // Threading: call from one thread (the benchmark's); the reference runs tbb::parallel_for.

@@ -11,7 +11,7 @@ namespace penumbra::sh {
 namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
-// The first 16 basis functions as printed in 003_26ade4f22fee623d.txt appendix A.
+// The first 16 basis functions as printed in [Ambrosj16] appendix A.
 std::array<float, 16> appendix_a(float x, float y, float z) {
   return {0.5f * std::sqrt(1 / kPi),
           std::sqrt(3 / (4 * kPi)) * y,

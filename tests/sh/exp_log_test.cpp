@@ -132,7 +132,7 @@ TEST(ExpLog, AccumulatedVisibilityAgainstGroundTruth) {
 }
 
 TEST(ExpLog, ManyOverlappingBlockersDegradeGracefully) {
-  // Failure mode (001 section 4.2): m overlapping blockers accumulate m log(eps) in the shared
+  // Failure mode ([Giraud] section 4.2): m overlapping blockers accumulate m log(eps) in the shared
   // region, far beyond what 4 bands can represent, and HYB's squares diverge. exp_visibility
   // must still return a finite vector that some [0, 1] visibility function could have.
   std::mt19937 rng(46);

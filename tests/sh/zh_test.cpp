@@ -44,7 +44,7 @@ TEST(Zonal, CapMatchesBruteForceAndAppendixA1) {
     const auto z = zh_cap<6>(theta);
     const auto b = zh_brute<6>([&](double x) { return x >= t ? 1.0 : 0.0; });
     for (int l = 0; l < 6; ++l) EXPECT_NEAR(z[l], b[l], 2e-3f) << "theta=" << theta << " l=" << l;
-    // 000_7ffde676d1c99e20.txt eq. A.1, k = 0..3 (k = 3 with (-1 + 5 cos^2)).
+    // [Meier13] eq. A.1, k = 0..3 (k = 3 with (-1 + 5 cos^2)).
     EXPECT_NEAR(z[0], -std::sqrt(kPi) * (-1 + t), 1e-5f);
     EXPECT_NEAR(z[1], 0.5f * std::sqrt(3 * kPi) * std::sin(theta) * std::sin(theta), 1e-5f);
     EXPECT_NEAR(z[2], -0.5f * std::sqrt(5 * kPi) * t * (-1 + t) * (1 + t), 1e-5f);

@@ -1,4 +1,4 @@
-// Accuracy of the terrain shadow system (TerrainShadowing: 000_7ffde676d1c99e20.txt ch. 4, the
+// Accuracy of the terrain shadow system (TerrainShadowing: [Meier13] ch. 4, the
 // scenes of ch. 6) against the reference integrator (engine/reference), through the support
 // library terrain_reference.h (scenes, receivers, ground plane, error definitions).
 //
@@ -7,7 +7,7 @@
 //    map. What the method should produce; its errors are reported for every case and bounded
 //    for the default configuration.
 //  - the "SH-ideal" (reference_visibility + shade_visibility): the method's own SH shading
-//    (000 eq. 4.21, 4 bands) fed with the reference's visibility. It shares all SH truncation
+//    ([Meier13] eq. 4.21, 4 bands) fed with the reference's visibility. It shares all SH truncation
 //    with the method, so the method differs from it only through its horizons, azimuth
 //    interpolation (eq. 4.15) and wedge table (eq. 4.18). Parameters of the horizon methods
 //    change only that part, so their orderings are asserted against it (against the irradiance
@@ -289,7 +289,7 @@ void default_configuration_under_two_hdr_maps(std::string_view name) {
 //    the horizon and the tangent plane, integrated directly (light_horizon.h), with its default
 //    radial-sweep horizons and with the march. Exact up to its chord quadrature: measured
 //    0.00-0.01% rel_rms, max 0.05%, for both.
-//  - kShWedges (000 eq. 4.22-4.29), march horizons (ls 4, lo 2, 16 azimuths): sphere wedge
+//  - kShWedges ([Meier13] eq. 4.22-4.29), march horizons (ls 4, lo 2, 16 azimuths): sphere wedge
 //    table, light cap in 4-band SH (eq. 4.27),
 //    E = L_cap . (V x C). Limited by 4-band SH of a small cap times the clamped cosine: the
 //    same SH shading fed with the reference's visibility is 8.3-13.5% rel_rms from the
@@ -377,7 +377,7 @@ void overhead_light_accuracy(std::string_view name) {
 //    1.6%) and their rel_rms to 0.25 points (measured <= 0.09);
 //  - more azimuths do not make it worse (rel_rms may rise only by 0.15 points of noise; measured
 //    sweep n32 0.81-0.87% sky, 0.49-0.62% sunset, i.e. at the noise, and n64 within 0.02);
-//  - on the cones (thin features between azimuths, 000 fig. 6.1) 8 azimuths are clearly worse
+//  - on the cones (thin features between azimuths, [Meier13] fig. 6.1) 8 azimuths are clearly worse
 //    than 64 (1.44% vs 0.84% sky, 1.31% vs 0.49% sunset); elsewhere n8 costs 0.0-0.3 points;
 //  - the march samples the terrain at growing distances from a pre-filtered pyramid, so it
 //    misses occluders (bias +0.1 to +3.9% against the SH-ideal) and is never better than the
@@ -479,7 +479,7 @@ PENUMBRA_SCENE_TESTS(EggTray, "egg_tray")
 //
 // Under a constant environment (radiance 1 over the whole sphere, so the map's SH is exact) at
 // the receivers on the field's border: with the ground plane the reference models the method's
-// clamped horizon (000 sec. 4.2.1) and the method is within 1.5% rms (measured 0.5-1.0%); a bare
+// clamped horizon ([Meier13] sec. 4.2.1) and the method is within 1.5% rms (measured 0.5-1.0%); a bare
 // field lets tilted border receivers see the sky below the horizontal past the edge, so the
 // reference is brighter and the method looks 2-6.6% wrong (bias -1.4 to -5.0%). The cones' border
 // is flat ground at the field's minimum height, where both agree (nothing can be seen below it).
@@ -521,7 +521,7 @@ TEST(TerrainReference, GroundPlaneModelsTheClampedHorizon) {
   }
 }
 
-// --- Known failure modes (000 ch. 6) --------------------------------------------------------
+// --- Known failure modes ([Meier13] ch. 6) --------------------------------------------------------
 
 // Fig. 6.1: "a cone falls between sampling directions". A thin tall spike (base radius 4 m,
 // 48 m high) on flat ground; receivers 13-29 m from it in the 8 directions 22.5 + 45 k degrees,
@@ -644,7 +644,7 @@ TEST(TerrainFailureModes, ThinWallBetweenMarchSamples) {
 //  - kCapHorizon fed by the march (ls 4, lo 2): 36%, 93%, 0.28: the pre-filtered pyramid
 //    flattens the ridge's crest (as the thin wall in ThinWallBetweenMarchSamples): too much
 //    light (bias +27%).
-//  - kShWedges (000 eq. 4.22-4.29), brute force: 30%, 82%, 0.45: 4-band SH cannot hold the
+//  - kShWedges ([Meier13] eq. 4.22-4.29), brute force: 30%, 82%, 0.45: 4-band SH cannot hold the
 //    shadow's edge. The same SH shading fed with the reference's visibility (SH-ideal) is 30%
 //    from the reference too, and within 4% of the method: the SH is the limit, not the horizons.
 TEST(TerrainLights, LightPartlyOccludedByARidge) {
@@ -733,7 +733,7 @@ TEST(TerrainLights, LightPartlyOccludedByARidge) {
   EXPECT_LT(wedge_vs_ideal.rel_rms, 0.05);
 }
 
-// 000 fig. 6.1/6.2's cones scene puts its light "at the centre, slightly above the ground", so
+// [Meier13] fig. 6.1/6.2's cones scene puts its light "at the centre, slightly above the ground", so
 // most receivers see it near their horizon. There the thesis's SH path (kShWedges) fails even
 // with nothing to occlude: 4 bands of the clamped cosine (eq. 4.29 with V = 1) make a light
 // 20 degrees across on flat ground +54% too bright 5 degrees up and +104% 2 degrees up, while

@@ -1,4 +1,4 @@
-// The height field's shadow on points above it (001 sec. 4.1, "Height Field Cast Shadows").
+// The height field's shadow on points above it ([Giraud] sec. 4.1, "Height Field Cast Shadows").
 #include "penumbra/systems/terrain_shadow/cast_shadow.h"
 
 #include <gtest/gtest.h>

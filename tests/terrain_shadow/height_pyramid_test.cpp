@@ -1,4 +1,4 @@
-// Height pyramid (000_7ffde676d1c99e20.txt eq. 4.4, sec. 5.1): level count, level 0, the
+// Height pyramid ([Meier13] eq. 4.4, sec. 5.1): level count, level 0, the
 // low-pass filtering of the other levels, bilinear sampling and input errors.
 #include "penumbra/systems/terrain_shadow/height_pyramid.h"
 

@@ -1,4 +1,4 @@
-// Multi-scale horizon march (000_7ffde676d1c99e20.txt eq. 4.5-4.14, 4.22-4.25) against exact
+// Multi-scale horizon march ([Meier13] eq. 4.5-4.14, 4.22-4.25) against exact
 // cases and the brute-force ray march; tolerances are measured errors with some margin.
 #include "penumbra/systems/terrain_shadow/horizon_march.h"
 

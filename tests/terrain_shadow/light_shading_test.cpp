@@ -1,4 +1,4 @@
-// Light shading modes of TerrainShadowing (kShWedges: 000_7ffde676d1c99e20.txt eq. 4.22-4.29;
+// Light shading modes of TerrainShadowing (kShWedges: [Meier13] eq. 4.22-4.29;
 // kCapHorizon: light_horizon.h) against closed forms and a brute-force quadrature of
 // int_cap V max(0, n.w) dw with exact horizons (ray_horizon). Tolerances are measured errors
 // with margin; the measured values are quoted next to each.

@@ -1,4 +1,4 @@
-// Log-SH wedges (001_ec851c01d7eb4628.txt sec. 4.1, eq. 15-23): M_lin's shape, the whole
+// Log-SH wedges ([Giraud] sec. 4.1, eq. 15-23): M_lin's shape, the whole
 // log-visibility against eq. 20 written out and against a brute-force projection of the
 // interpolated slices, closed forms for constant horizons, and exp(log V) against the primal
 // wedge-table visibility.

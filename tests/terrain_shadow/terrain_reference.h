@@ -9,7 +9,7 @@
 //    the DEM's 403 samples resample its central 403 x 403 square bilinearly (finer cells).
 //  - "mountains", "cones", "sine_grating", "egg_tray" (and "city"): assets::procedural_scene
 //    with its default parameters and seed 1 over a fixed extent of kProceduralExtent = 256 m,
-//    whatever the size (cell = 256 / (size - 1) m, about 1 m at 256: the shapes of 000 ch. 6
+//    whatever the size (cell = 256 / (size - 1) m, about 1 m at 256: the shapes of [Meier13] ch. 6
 //    rendered at 256x256). At that extent the slopes are those the generators were designed
 //    for, steep enough for long shadows and partly occluded skies everywhere: cone flanks 45
 //    degrees (flat plain between them), sine grating and egg tray up to 38 degrees (pi A / P,
@@ -22,7 +22,7 @@
 // normals(), the same as reference::height_field_receivers), the environment map with its
 // rotation about z and optionally spherical lights.
 //
-// MODELLING NOTE, the ground plane: the method clamps the environment horizon at 0 (000 sec.
+// MODELLING NOTE, the ground plane: the method clamps the environment horizon at 0 ([Meier13] sec.
 // 4.2.1: the terrain is taken to continue beyond its border, so nothing below the horizontal
 // plane of a receiver is ever visible), whereas a bare height field in the reference ends at
 // its border and a receiver near the border sees sky below the horizontal past it (for tilted
@@ -148,7 +148,7 @@ ReferenceIrradiance reference_irradiance(const assets::HeightField& field, float
 // (reference::visibility_sh, kSphere; with the ground plane, what lies below the horizontal is
 // blocked, as in the method's clamped hemisphere), as two independent estimates of
 // samples / 2 directions each (seeds seed and seed + 1). Shading it (shade_visibility) gives
-// E = L . diffuse_transfer(V_ref, n) (000 eq. 4.21), which shares every SH truncation with the
+// E = L . diffuse_transfer(V_ref, n) ([Meier13] eq. 4.21), which shares every SH truncation with the
 // method (of the radiance, of V, of the product V x C): the method differs from it only by its
 // visibility (horizon sampling, azimuth interpolation eq. 4.15, wedge table eq. 4.18). The
 // horizon methods' parameters are judged against it. Its std_error is |E_a - E_b| / 2 per

@@ -1,4 +1,4 @@
-// Diffuse transfer and spherical-light radiance (000_7ffde676d1c99e20.txt eq. 4.20-4.21,
+// Diffuse transfer and spherical-light radiance ([Meier13] eq. 4.20-4.21,
 // 4.27-4.29): normalisation (constant radiance gives pi L), the product against a quadrature of
 // the band-limited integrand, the cap's projection and the culling rules.
 #include "penumbra/systems/terrain_shadow/transfer.h"

@@ -1,4 +1,4 @@
-// Wedge tables (000_7ffde676d1c99e20.txt eq. 4.15-4.19, 4.26): wedge_exact against closed
+// Wedge tables ([Meier13] eq. 4.15-4.19, 4.26): wedge_exact against closed
 // forms and a brute-force projection, the table against wedge_exact, visibility() against the
 // plain sum of rotated wedges and against analytic horizons.
 #include "penumbra/systems/terrain_shadow/wedge_table.h"

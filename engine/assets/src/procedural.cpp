@@ -1,4 +1,4 @@
-// Procedural height fields (procedural.h): the test scenes of 000_7ffde676d1c99e20.txt
+// Procedural height fields (procedural.h): the test scenes of [Meier13]
 // chapter 6. The thesis shows the scenes but gives no formulas; the shapes and defaults here
 // are ours, sized for its 256x256 grids.
 #include "penumbra/assets/procedural.h"

@@ -20,7 +20,7 @@ std::vector<float> point_horizons(const assets::HeightField& field, float height
     throw std::invalid_argument(field.source + ": cast-shadow point must be finite");
   std::vector<float> angles(azimuths);
   const glm::vec2 start(point.x / field.cell_size, point.y / field.cell_size);
-  for (int k = 0; k < azimuths; ++k)  // 001 sec. 4.1: march from the point's own height
+  for (int k = 0; k < azimuths; ++k)  // [Giraud] sec. 4.1: march from the point's own height
     angles[k] = ray_horizon(field, height_scale, start, point.z,
                             static_cast<float>(2.0 * std::numbers::pi * k / azimuths),
                             std::numeric_limits<float>::infinity(), false);

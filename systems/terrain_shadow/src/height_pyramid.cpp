@@ -1,4 +1,4 @@
-// Height pyramid (000_7ffde676d1c99e20.txt sec. 4.2.1, 5.1): per level a separable tent
+// Height pyramid ([Meier13] sec. 4.2.1, 5.1): per level a separable tent
 // decimation to spacing s = sr^i and a cubic B-spline reconstruction back to full resolution.
 // Every level is filtered from level 0 directly (not from the previous level), so its kernel
 // depends on s only, not on level_step. Rows are processed whole, so the y passes (most of the
@@ -18,7 +18,7 @@ namespace {
 
 constexpr int kMaxLevelStep = 16;
 
-// Uniform cubic B-spline basis at t in [0, 1) (000 eq. 4.9-4.12).
+// Uniform cubic B-spline basis at t in [0, 1) ([Meier13] eq. 4.9-4.12).
 void bspline_weights(float t, float w[4]) {
   const float t2 = t * t, t3 = t2 * t;
   w[0] = (1 - t) * (1 - t) * (1 - t) / 6;
@@ -93,7 +93,7 @@ void HeightPyramid::build(const assets::HeightField& field, float height_scale,
   cell_size_ = field.cell_size;
   level_step_ = params.level_step;
   source_ = field.source;
-  // n = ceil(ls * log2(br)) + 1 (000 eq. 4.4); the epsilon keeps exact powers of two exact.
+  // n = ceil(ls * log2(br)) + 1 ([Meier13] eq. 4.4); the epsilon keeps exact powers of two exact.
   const double br = std::max(width_, height_);
   levels_ = static_cast<int>(std::ceil(level_step_ * std::log2(br) - 1e-9)) + 1;
 

@@ -1,4 +1,4 @@
-// Multi-scale horizon march (000_7ffde676d1c99e20.txt eq. 4.5-4.14, 4.22-4.25, sec. 5.2).
+// Multi-scale horizon march ([Meier13] eq. 4.5-4.14, 4.22-4.25, sec. 5.2).
 //
 // Layout: a receiver texel p is an integer grid point, so sample i of azimuth k sits at
 // p + d_i * dir_k, whose integer part and bilinear weights are the same for every texel. The
@@ -46,7 +46,7 @@ struct SampleOffset {
 // Everything that depends on the pyramid and the parameters but not on the texel.
 struct Plan {
   int n = 0, n_phi = 0;
-  std::vector<double> d;          // d_i in cells: d_0 = 1, d_{i+1} = d_i + sr^i (000 sec. 4.2.1)
+  std::vector<double> d;          // d_i in cells: d_0 = 1, d_{i+1} = d_i + sr^i ([Meier13] sec. 4.2.1)
   std::vector<float> inv_metres;  // 1 / (d_i * cell_size)
   std::vector<int> level;         // pyramid level read by sample i (eq. 4.14, see below)
   std::vector<SampleOffset> at;   // [k * n + i]
@@ -61,7 +61,7 @@ struct Plan {
       inv_metres.push_back(static_cast<float>(1.0 / (di * pyr.cell_size())));
       // Eq. 4.14 offsets the level towards the finer end by ls * lo: sample i (spacing sr^i)
       // reads the level filtered for spacing sr^i / 2^lo, so lo = 0 is the alias-free choice
-      // and a larger lo is sharper (000 sec. 4.2.1). The thesis's index runs from coarse to
+      // and a larger lo is sharper ([Meier13] sec. 4.2.1). The thesis's index runs from coarse to
       // fine, hence its "+"; with level 0 finest it is a "-".
       level.push_back(std::clamp(static_cast<int>(std::ceil(i - shift - 1e-9)), 0, n - 1));
       di += spacing;
@@ -125,7 +125,7 @@ struct Row {
 };
 
 // Uniform cubic B-spline on four consecutive angles: at a knot (1/6 2/3 1/6) and at the
-// mid-point after it (1/48 23/48 23/48 1/48) (000 eq. 4.8-4.12, sec. 5.2).
+// mid-point after it (1/48 23/48 23/48 1/48) ([Meier13] eq. 4.8-4.12, sec. 5.2).
 inline float knot_value(float am, float a0, float a1) {
   return (am + 4 * a0 + a1) * (1.0f / 6);
 }

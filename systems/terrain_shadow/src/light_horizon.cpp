@@ -37,7 +37,7 @@ inline float fast_acos(float x) {
   return kHalfPi - fast_asin(x);
 }
 
-// Uniform cubic B-spline at a knot and at the mid-point after it (000 eq. 4.8-4.12, sec. 5.2).
+// Uniform cubic B-spline at a knot and at the mid-point after it ([Meier13] eq. 4.8-4.12, sec. 5.2).
 inline float knot_value(float am, float a0, float a1) {
   return (am + 4 * a0 + a1) * (1.0f / 6);
 }

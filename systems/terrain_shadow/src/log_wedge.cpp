@@ -1,4 +1,4 @@
-// Log-SH wedges (001_ec851c01d7eb4628.txt sec. 4.1, eq. 18-23).
+// Log-SH wedges ([Giraud] sec. 4.1, eq. 18-23).
 //
 // Each slice vector v_k enters two wedges: as the left border of wedge k (rotated to phi_k) and
 // as the right border of wedge k - 1 (rotated to phi_{k-1}). The constructor folds both into one

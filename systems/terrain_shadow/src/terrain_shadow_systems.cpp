@@ -128,7 +128,7 @@ void compose(ecs::World& w) {
       for (int c = 0; c < 3; ++c)
         radiance[c] = sh::rotate_z<kSystemBands>(env->radiance[c], rotation);
     auto rgb = std::make_shared<std::vector<glm::vec3>>();
-    x.shadowing->shade_environment(radiance, *rgb);  // 000 eq. 4.21
+    x.shadowing->shade_environment(radiance, *rgb);  // [Meier13] eq. 4.21
     const bool lit = x.light_irradiance.size() == rgb->size();
     tbb::parallel_for(std::size_t{0}, rgb->size(), [&](std::size_t i) {
       glm::vec3 e = (*rgb)[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));  // eq. 4.30

@@ -134,7 +134,7 @@ void TerrainShadowing<N>::compute_transfer_rows(const std::vector<unsigned char>
     for (int x = 0; x < w; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * w + x;
       if (mask && !(*mask)[i]) continue;
-      // 000 eq. 4.19 then 4.21.
+      // [Meier13] eq. 4.19 then 4.21.
       transfer_[i] =
           diffuse_transfer<N>(hemisphere_.visibility(horizons_.texel(x, y)), normals_[i]);
     }
@@ -210,7 +210,7 @@ void TerrainShadowing<N>::shade_environment(const sh::CoeffsRgb<N>& radiance,
   irradiance.resize(transfer_.size());
   tbb::parallel_for(std::size_t{0}, transfer_.size(), std::size_t{1024}, [&](std::size_t i0) {
     const std::size_t i1 = std::min(i0 + 1024, transfer_.size());
-    for (std::size_t i = i0; i < i1; ++i)  // 000 eq. 4.21
+    for (std::size_t i = i0; i < i1; ++i)  // [Meier13] eq. 4.21
       irradiance[i] = {sh::dot<N>(radiance[0], transfer_[i]), sh::dot<N>(radiance[1], transfer_[i]),
                        sh::dot<N>(radiance[2], transfer_[i])};
   });
@@ -306,7 +306,7 @@ void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
     const int y = span.y;
     if (!span_lit(span, centre, radius)) return;
     const TexelRect row{span.x0, y, span.x1, y + 1};
-    // 000 eq. 4.22-4.25 (row by row: rows are the parallel tiles).
+    // [Meier13] eq. 4.22-4.25 (row by row: rows are the parallel tiles).
     if (config_.light_method == HorizonMethod::kMarch)
       march_horizons(pyramid_, p, config_.march, row, light_horizons_);
     else
@@ -320,7 +320,7 @@ void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
       const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
       const glm::vec3 d = centre - position(x, y);
       if (glm::dot(d, d) <= radius * radius || glm::dot(d, normals_[i]) <= -radius) continue;
-      // 000 eq. 4.26-4.29.
+      // [Meier13] eq. 4.26-4.29.
       const sh::Coeffs<N> t =
           diffuse_transfer<N>(sphere_.visibility(light_horizons_.texel(x, y)), normals_[i]);
       const float e = sh::dot<N>(spherical_light_radiance<N>(d, radius), t);
@@ -349,7 +349,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       const glm::vec3 d = centre - position(x, y);
       LightCap cap;
       if (glm::dot(d, normals_[i]) <= -radius || !make_light_cap(d, radius, cap)) continue;
-      // Horizons towards the cap only, limited to the light's plane distance (000 eq. 4.22).
+      // Horizons towards the cap only, limited to the light's plane distance ([Meier13] eq. 4.22).
       std::array<float, kMaxCapHorizons> horizon;
       bool one = sweep;
       if (sweep) {

@@ -1,5 +1,5 @@
 // Wedge tables: SH projections of one visibility wedge, tabulated over its two border angles,
-// and the per-texel sum of rotated wedges (000_7ffde676d1c99e20.txt eq. 4.15-4.19, 4.26).
+// and the per-texel sum of rotated wedges ([Meier13] eq. 4.15-4.19, 4.26).
 //
 // Table layout: node (a, b) (w_left = node a, w_right = node b) is the N*N vector in 8-lane
 // blocks from block a * row + b * B (B = ceil(N*N / 8), row = resolution * B + a cache line), so

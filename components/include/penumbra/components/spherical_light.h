@@ -1,4 +1,4 @@
-// A local light: a sphere of uniform radiance (000_7ffde676d1c99e20.txt sec. 4.3, fig. 4.11).
+// A local light: a sphere of uniform radiance ([Meier13] sec. 4.3, fig. 4.11).
 // Seen from outside, every direction that meets the sphere carries `radiance`; a receiver at
 // distance d > radius gets irradiance pi * radiance * (radius / d)^2 facing it unoccluded.
 #pragma once

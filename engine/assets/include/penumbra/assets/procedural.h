@@ -1,4 +1,4 @@
-// Procedural height fields: the dynamic test scenes of 000_7ffde676d1c99e20.txt chapter 6
+// Procedural height fields: the dynamic test scenes of [Meier13] chapter 6
 // (mountains, cones, sine grating, egg tray, city; the teddy scene is a scan, not generated).
 //
 // Contract: each generator samples a continuous function of world position (metres) on a

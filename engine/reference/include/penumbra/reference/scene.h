@@ -67,7 +67,7 @@ struct SphereOccluder {
 
 // A sphere of uniform radiance: seen from outside, every direction that meets it carries
 // `radiance`. A receiver inside (or on) a light gets nothing from it (the light is culled, as
-// 002_e0f6bca9d0b76a0f.txt culls spherical lights containing the receiver): finite, documented.
+// [Guerrero08] culls spherical lights containing the receiver): finite, documented.
 struct SphereLight {
   glm::vec3 center{0.0f};
   float radius = 1;

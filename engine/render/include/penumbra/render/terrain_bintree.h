@@ -21,8 +21,8 @@
 // outside, so any width and height >= 2 is covered exactly (at the cost of finer triangles
 // along the border; 2^k + 1 samples a side, as Unity's heightmaps have, avoid it).
 //
-// Cost: build() O(n log n) in the virtual samples (the exact errors: about 4 ms for 257 x 257 on
-// the 2-core machine), 8 bytes per virtual sample; triangulate() about 2 nodes per triangle drawn.
+// Cost: build() O(n log n) in the virtual samples (the exact errors), 8 bytes per virtual
+// sample; triangulate() about 2 nodes per triangle drawn (times: docs/play.md).
 // Threading: build() and triangulate() may not overlap; triangulate() is const.
 #pragma once
 

@@ -3,7 +3,7 @@
 // Conventions (pinned by tests/sh/basis_test.cpp):
 //  - real SH y_i with index i = l(l+1) + m, l = 0..N-1, m = -l..l; N bands give N*N coefficients;
 //  - no Condon-Shortley phase, band 1 ordered (y, z, x): y_1^-1 = +sqrt(3/4pi) y
-//    (003_26ade4f22fee623d.txt appendix A; 001_ec851c01d7eb4628.txt eq. 3-5);
+//    ([Ambrosj16] appendix A; [Giraud] eq. 3-5);
 //  - directions are unit vectors in a right-handed, z-up frame (z is the height-field normal).
 // The band count N is a template parameter, 2..6; kDefaultBands (4, 16 coefficients) is what
 // all the seed documents use. Everything is float.
@@ -51,7 +51,7 @@ Coeffs<N> eval_basis(const glm::vec3& dir) {
 template <int N>
 void eval_basis_batch(const float* x, const float* y, const float* z, std::size_t count, float* out);
 
-// The band-limited function at `dir`: sum_i f_i y_i(dir) (001 eq. 4).
+// The band-limited function at `dir`: sum_i f_i y_i(dir) ([Giraud] eq. 4).
 template <int N>
 float evaluate(const Coeffs<N>& f, const glm::vec3& dir);
 

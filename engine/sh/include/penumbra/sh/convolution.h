@@ -9,7 +9,7 @@
 namespace penumbra::sh {
 
 // f convolved with the zonal kernel k: band l scaled by sqrt(4 pi / (2l + 1)) k_l
-// (Funk-Hecke, as in 001_ec851c01d7eb4628.txt eq. 5).
+// (Funk-Hecke, as in [Giraud] eq. 5).
 template <int N>
 Coeffs<N> convolve(const Coeffs<N>& f, const Zonal<N>& kernel);
 

@@ -1,6 +1,6 @@
 // SH logarithm and exponential, for accumulating visibility of many blockers as a sum of
 // log-SH vectors followed by one exponential (Ren et al. 2006, as used in
-// 001_ec851c01d7eb4628.txt eq. 7-9 and 002_e0f6bca9d0b76a0f.txt eq. 6-7).
+// [Giraud] eq. 7-9 and [Guerrero08] eq. 6-7).
 //
 // Accuracy (tests/sh/exp_log_test.cpp, 4 bands, relative L2 error; blocker sums use
 // log(eps) = -3 and sin(half-angle) 0.2-0.6):

@@ -1,5 +1,5 @@
 // SH products: the projection of the pointwise product of two band-limited functions,
-// truncated to N bands: (f * g)_i = sum_jk Gamma_ijk f_j g_k (001_ec851c01d7eb4628.txt eq. 6).
+// truncated to N bands: (f * g)_i = sum_jk Gamma_ijk f_j g_k ([Giraud] eq. 6).
 //
 // product/square run generated straight-line code (scripts/gen_sh_code.py): each pair product
 // f_j g_k + f_k g_j is formed once and feeds every output with a non-zero Gamma. The

@@ -1,4 +1,4 @@
-// Projection onto SH (001_ec851c01d7eb4628.txt eq. 3): of a function by spherical quadrature,
+// Projection onto SH ([Giraud] eq. 3): of a function by spherical quadrature,
 // and of an equirectangular environment map with per-texel solid-angle weights.
 #pragma once
 

@@ -14,7 +14,7 @@
 namespace penumbra::sh {
 
 // A zonal function (about +z) re-aligned to the unit direction `axis`:
-// f_lm = sqrt(4 pi / (2l + 1)) z_l y_lm(axis) (Funk-Hecke; 001_ec851c01d7eb4628.txt eq. 5).
+// f_lm = sqrt(4 pi / (2l + 1)) z_l y_lm(axis) (Funk-Hecke; [Giraud] eq. 5).
 template <int N>
 Coeffs<N> rotate_zh(const Zonal<N>& z, const glm::vec3& axis);
 

@@ -21,30 +21,30 @@ Zonal<N> zh_clamped_cosine();
 
 // Indicator of the spherical cap of half-angle `half_angle` (radians) around +z:
 // z_0 = 2 pi N_0 (1 - cos), z_l = 2 pi N_l (P_{l-1}(cos) - P_{l+1}(cos)) / (2l + 1), with
-// N_l = sqrt((2l+1)/4pi) (000_7ffde676d1c99e20.txt appendix A.1, eq. 4.27; the document's
+// N_l = sqrt((2l+1)/4pi) ([Meier13] appendix A.1, eq. 4.27; the document's
 // k = 3 line prints (-1 + 5 cos)^2 where the integral gives (-1 + 5 cos^2)).
 template <int N>
 Zonal<N> zh_cap(float half_angle);
 
 // Visibility of a sphere blocker seen from a receiver: 1 outside the cone it subtends,
-// 0 inside. sin(half angle) = radius / distance (001_ec851c01d7eb4628.txt eq. 24-25).
+// 0 inside. sin(half angle) = radius / distance ([Giraud] eq. 24-25).
 // A receiver inside the blocker (radius >= distance) sees nothing: all-zero coefficients.
 template <int N>
 Zonal<N> zh_sphere_visibility(float radius, float distance);
 
-// Log-visibility of the same blocker: log(eps) inside the cone, 0 outside (001 eq. 26).
+// Log-visibility of the same blocker: log(eps) inside the cone, 0 outside ([Giraud] eq. 26).
 // Inside the blocker: log(eps) everywhere.
 template <int N>
 Zonal<N> zh_sphere_log_visibility(float radius, float distance, float log_eps);
 
 // Normalised Legendre polynomials (NLP) hat P_l(z) = sqrt((2l+1)/2) P_l(z), orthonormal on
-// [-1, 1] (001 eq. 12-14).
+// [-1, 1] ([Giraud] eq. 12-14).
 template <int N>
 std::array<float, N> nlp_basis(float z);
 
 // NLP projection of a log-visibility slice with horizon angle sigma (elevation of the
 // horizon, radians; negative below the horizontal plane): log(eps) for polar angle
-// theta > pi/2 - sigma, 0 above (001 eq. 15, whose 4-term closed form is eq. 16).
+// theta > pi/2 - sigma, 0 above ([Giraud] eq. 15, whose 4-term closed form is eq. 16).
 template <int N>
 std::array<float, N> nlp_log_slice(float sigma, float log_eps);
 

@@ -1,9 +1,9 @@
 // The height field's shadow cast onto a point above it, e.g. a sample of a dynamic object
-// (001_ec851c01d7eb4628.txt sec. 4.1, "Height Field Cast Shadows"): the point is projected
+// ([Giraud] sec. 4.1, "Height Field Cast Shadows"): the point is projected
 // onto the height field's plane and the horizon along each azimuth is measured from the
 // point's own height (ray_horizon, unclamped: the terrain may lie wholly below the point).
 // The wedges over those horizons give its visibility on the whole sphere, in log-SH (to add
-// to blockers' log-visibility before one exponentiation, 001 eq. 18-23) or primal SH.
+// to blockers' log-visibility before one exponentiation, [Giraud] eq. 18-23) or primal SH.
 //
 // A point outside the field's footprint sees only the terrain in front of it along each
 // azimuth; a point below the surface sees the surrounding terrain rise steeply and is (almost)

@@ -1,4 +1,4 @@
-// Multi-resolution height pyramid (000_7ffde676d1c99e20.txt sec. 4.2.1 and 5.1, eq. 4.4).
+// Multi-resolution height pyramid ([Meier13] sec. 4.2.1 and 5.1, eq. 4.4).
 // [Interface fixed by the system; see horizon_march.h for how it is sampled.]
 //
 // Level i is the height field low-pass filtered for a sample spacing of s = sr^i cells,
@@ -7,7 +7,7 @@
 // n = ceil(level_step * log2(resolution)) + 1 levels (eq. 4.4), resolution = max(width, height).
 // Level 0 is the input times height_scale, unfiltered. Level i >= 1: the field tent-filtered
 // (half-width s) and decimated to a grid of spacing s anchored at sample 0, then rebuilt at
-// every sample by the uniform cubic B-spline of those coefficients (000 sec. 5.1); both steps
+// every sample by the uniform cubic B-spline of those coefficients ([Meier13] sec. 5.1); both steps
 // are separable with clamp-to-edge borders. The effective kernel has a standard deviation of
 // about 0.7 s cells. Cost: about 6 multiply-adds per sample and level; memory: n levels.
 //
@@ -24,7 +24,7 @@
 namespace penumbra::terrain_shadow {
 
 struct PyramidParams {
-  int level_step = 4;  // ls >= 1 (000 eq. 4.4)
+  int level_step = 4;  // ls >= 1 ([Meier13] eq. 4.4)
 };
 
 class HeightPyramid {

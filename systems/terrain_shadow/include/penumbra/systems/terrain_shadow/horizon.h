@@ -1,5 +1,5 @@
 // Horizon angles of a height field: for every sample (texel) and each of n_phi azimuths, the
-// elevation of the highest terrain seen in that direction (000_7ffde676d1c99e20.txt eq. 4.2;
+// elevation of the highest terrain seen in that direction ([Meier13] eq. 4.2;
 // for local lights, only terrain nearer than the light: eq. 4.22).
 //
 // Conventions shared by every horizon method (sweep, march, brute force):
@@ -9,7 +9,7 @@
 //    equirect conventions of engine/sh);
 //  - an angle is an elevation in radians: 0 is the horizontal plane, pi/2 the zenith. With
 //    clamp_at_zero (environment light) it is >= 0: the terrain is taken to continue beyond its
-//    border at no more than the receiver's height (000 sec. 4.2.1). Without (local lights) it
+//    border at no more than the receiver's height ([Meier13] sec. 4.2.1). Without (local lights) it
 //    may be negative, and with no terrain in range it is -pi/2;
 //  - the terrain ends at its border: nothing outside the grid occludes.
 #pragma once
@@ -41,7 +41,7 @@ struct HorizonParams {
   int azimuths = 32;          // n_phi >= 3
   float height_scale = 1.0f;  // multiplies every height
   bool clamp_at_zero = true;  // environment: yes; local lights: no
-  // Local lights (000 eq. 4.22): occluders farther from the receiver, in the plane, than this
+  // Local lights ([Meier13] eq. 4.22): occluders farther from the receiver, in the plane, than this
   // point (plane position in metres, relative to sample (0, 0)) are ignored.
   std::optional<glm::vec2> limit_to_point;
 };

@@ -1,4 +1,4 @@
-// Multi-scale horizon marching on the height pyramid (000_7ffde676d1c99e20.txt eq. 4.5-4.14,
+// Multi-scale horizon marching on the height pyramid ([Meier13] eq. 4.5-4.14,
 // local lights eq. 4.22-4.25; GPU details sec. 5.2).
 // [Interface fixed by the system.]
 //
@@ -30,7 +30,7 @@
 namespace penumbra::terrain_shadow {
 
 struct MarchParams {
-  float level_offset = 2.0f;  // lo >= 0, finite (000 eq. 4.14): larger = sharper, more aliasing
+  float level_offset = 2.0f;  // lo >= 0, finite ([Meier13] eq. 4.14): larger = sharper, more aliasing
 };
 
 // Horizons of `region` from a pyramid built with the same height_scale as params.height_scale

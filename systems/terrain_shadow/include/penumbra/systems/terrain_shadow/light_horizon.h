@@ -1,5 +1,5 @@
 // Cap-vs-horizon shading of one spherical light (TerrainShadowConfig::light_shading =
-// kCapHorizon; ours, not the thesis's SH path of 000_7ffde676d1c99e20.txt eq. 4.22-4.29).
+// kCapHorizon; ours, not the thesis's SH path of [Meier13] eq. 4.22-4.29).
 //
 // The light matters only inside its cap, so this models the visibility only there:
 //  - RadialHorizonSweep (TerrainShadowConfig::cap_method kSweep, the default): the exact
@@ -7,7 +7,7 @@
 //    amortised O(1) per line sample (about 2 samples per texel).
 //  - LightHorizonMarch (kMarch): the horizon along one direction (the light's azimuth, or a
 //    few across the cap) by the thesis's pyramid march: horizon_march.h for one direction per
-//    call (000 eq. 4.5-4.14, 4.22-4.25: sample distances, level choice eq. 4.14, elevation eq.
+//    call ([Meier13] eq. 4.5-4.14, 4.22-4.25: sample distances, level choice eq. 4.14, elevation eq.
 //    4.5-4.6 with the receiver at level 0, uniform cubic B-spline maximum over knots and
 //    mid-points, 1/6 2/3 1/6 and 1/48 23/48 23/48 1/48, and the spline at the light's own
 //    distance). For an azimuth 2 pi k / n_phi it gives what march_horizons gives (to 1e-6 rad,
@@ -15,12 +15,7 @@
 //  - cap_transfer: the cosine-weighted solid angle of the part of the cap above that horizon
 //    and above the receiver's tangent plane, int_cap V(w) max(0, n.w) dw, integrated directly
 //    (no SH, so no ringing and no band-limit blur of small lights): E = L * cap_transfer.
-// Measured (256 x 256 mountains, one light of radius 2 m 6 m above the terrain; see
-// terrain_shadowing.h), 5.5 ms of one thread in all: the sweep 1.9 ms (131k line samples, 14
-// ns each, mostly the hull's data-dependent branches), its per-texel lookups 0.45 ms, culling,
-// cap set-up and cap_transfer the rest (27% of the texels are in a penumbra and take the
-// chords). The pyramid march instead of the sweep costs about 130 ns per direction and texel
-// and is 7 times less accurate (its filtered far samples).
+// Where its time goes: docs/terrain_shadow.md ("Light shading, measured").
 //
 // Integration: the cap projected orthographically onto the plane perpendicular to its centre
 // direction c is a disc of radius rho = r / |d|; with w = c0 c + s s^ + u u^ (u^ "up", s^
@@ -77,7 +72,7 @@ class LightHorizonMarch {
 };
 
 // Exact horizons of every texel towards one plane point, the light's foot F (the plane
-// position of its centre), for terrain between the texel and F only (000 eq. 4.22 with the
+// position of its centre), for terrain between the texel and F only ([Meier13] eq. 4.22 with the
 // true terrain, no pyramid): a line sweep like horizon_sweep.h, with lines radiating from F
 // instead of parallel. Each of the four sides of F (+x, -x, +y, -y; |slope| <= 1 about its
 // major axis) has lines v = V0 + r m_j, r the major-axis distance from F, slopes m_j = j / J

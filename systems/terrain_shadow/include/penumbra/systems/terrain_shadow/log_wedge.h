@@ -1,4 +1,4 @@
-// Log-SH visibility of a height field from its horizon angles (001_ec851c01d7eb4628.txt
+// Log-SH visibility of a height field from its horizon angles ([Giraud]
 // sec. 4.1, eq. 15-23), so that terrain visibility can be summed with blockers' log-visibility
 // and exponentiated once (sh/exp_log.h). [Interface fixed by the system.]
 //

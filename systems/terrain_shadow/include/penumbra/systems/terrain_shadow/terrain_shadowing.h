@@ -1,6 +1,6 @@
 // Terrain shadowing for one height field, outside the ECS: horizons, per-texel environment
 // transfer vectors, and shading by the environment and by spherical lights
-// (000_7ffde676d1c99e20.txt sec. 4.2-4.3; the ECS systems in terrain_shadow_systems.h, the
+// ([Meier13] sec. 4.2-4.3; the ECS systems in terrain_shadow_systems.h, the
 // benchmarks and the accuracy tests all drive this class).
 //
 // Pipeline per texel (every height sample is a receiver, its normal from central differences
@@ -17,24 +17,8 @@
 //                 E_l = L_cap . T_l (4.29)
 // Irradiance E is in W/m^2 per channel; outgoing diffuse radiance is albedo / pi * E.
 //
-// Light shading, measured (256 x 256 "mountains", assets::procedural_scene seed 1, 256 m; light
-// of radius 2 m, 6 m above the centre texel, the benchmark's; release build, x86-64-v3, one
-// light, best of 15 calls on a shared 2-core machine; error against reference::light_irradiance
-// at 1024 receivers, every 8th texel, 2048 directions each, reference se 0.02%):
-//   kShWedges (march, 16 az.)  36.0 ms 1 thread, 18.2 ms 2 threads; rel_rms 5.74%, bias +6.7%
-//   kCapHorizon (defaults)      5.3 ms 1 thread,  2.7 ms 2 threads; rel_rms 0.11%, bias +0.06%
-//   kCapHorizon, cap_method kMarch (pyramid, 3 directions): 27.8 / 13.8 ms; rel_rms 0.73%
-// Other lights, rel_rms SH / cap (radius, height above the terrain): 0.5 m, 2 m: 1.8% / 0.05%;
-// 8 m, 20 m: 6.1% / 0.23% (cap 7.0 / 3.5 ms, SH 36 / 19 ms); 6 m, 40 m above the highest peak:
-// 8.2% / 0.17%; 4 m, 3 m (the sphere cuts the terrain): 4.0% / 0.28%; 16 m behind a 16 m
-// straight ridge on flat ground: 7.8% / 0.40% (cap 6.5 / 3.2 ms); "cones", "sine_grating":
-// 3.8% / 0.02%, 7.9% / 0.05%. The SH path's error is its band limit: 4 bands of a cap a few
-// degrees wide and of the visibility blur the light over tens of degrees (a light half hidden
-// by a wall keeps 67 to 78% of its irradiance, a wholly hidden one 30 to 53%:
-// light_shading_test.cpp), and ring near the light (5% too bright 7 m from it). kCapHorizon is
-// the default: 6.8 times faster and 50 times more accurate here. Its residual is the horizon
-// (the terrain between grid lines, and the interpolation between sweep lines: 0.08% with exact
-// rays from every texel, cap_method kBruteForce, at O(distance) per texel).
+// Which light shading is faster and more accurate, and by how much: docs/terrain_shadow.md
+// ("Light shading, measured").
 //
 // Dynamic updates: update() recomputes everything; update_edit() only the (texel, azimuth)
 // pairs an edit can change (sweep method), then the transfer of texels whose horizons or
@@ -63,14 +47,14 @@ namespace penumbra::terrain_shadow {
 
 enum class HorizonMethod {
   kSweep,       // exact line sweep (default): horizon_sweep.h
-  kMarch,       // pyramid march (000 eq. 4.4-4.14): horizon_march.h
+  kMarch,       // pyramid march ([Meier13] eq. 4.4-4.14): horizon_march.h
   kBruteForce,  // every sample of every texel's ray: tests only
 };
 const char* to_string(HorizonMethod m);
 
 // How add_spherical_light shades (measurements: the header comment of this file).
 enum class LightShading {
-  kShWedges,    // 000 eq. 4.22-4.29 (the thesis): light_azimuths horizons by light_method,
+  kShWedges,    // [Meier13] eq. 4.22-4.29 (the thesis): light_azimuths horizons by light_method,
                 // sphere wedge table, SH transfer, E = L_cap . (V * C(n))
   kCapHorizon,  // ours: the horizon towards the cap only (cap_method), exact cap integral
                 // (light_horizon.h)
@@ -86,7 +70,7 @@ struct TerrainShadowConfig {
   HorizonMethod light_method = HorizonMethod::kMarch;
   int light_azimuths = 16;  // kShWedges: n_phi of the sphere wedge table
   // kCapHorizon: the horizon towards the light: kSweep = RadialHorizonSweep (exact), kMarch =
-  // LightHorizonMarch (pyramid, 000 eq. 4.22-4.25), kBruteForce = ray_horizon (light_horizon.h).
+  // LightHorizonMarch (pyramid, [Meier13] eq. 4.22-4.25), kBruteForce = ray_horizon (light_horizon.h).
   HorizonMethod cap_method = HorizonMethod::kSweep;
   int cap_horizons = 3;  // kCapHorizon: horizon directions across a cap, 1..kMaxCapHorizons
   // kCapHorizon with kSweep: a cap with rho = radius / distance >= cap_wide (near the light)

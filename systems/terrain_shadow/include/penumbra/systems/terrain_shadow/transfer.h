@@ -1,4 +1,4 @@
-// Diffuse transfer and shading (000_7ffde676d1c99e20.txt eq. 4.20-4.21, 4.27-4.29).
+// Diffuse transfer and shading ([Meier13] eq. 4.20-4.21, 4.27-4.29).
 // [Interface fixed by the system.]
 //
 // transfer = V * C(n): the SH product of the visibility with the clamped cosine about the unit
@@ -21,7 +21,7 @@ sh::Coeffs<N> diffuse_transfer(const sh::Coeffs<N>& visibility, const glm::vec3&
 
 // Incident radiance of a spherical light of unit radiance (scale the result by each channel's
 // radiance), centre at `to_centre` (vector from the receiver, not normalised) and `radius`: the
-// ZH of its cap of half-angle asin(radius / |to_centre|) (000 eq. 4.27, appendix A.1) rotated
+// ZH of its cap of half-angle asin(radius / |to_centre|) ([Meier13] eq. 4.27, appendix A.1) rotated
 // towards the centre. A receiver inside or on the light (|to_centre| <= radius), a light of
 // radius <= 0 or a non-finite input gets zero (documented: the light is culled, like the
 // reference integrator does).

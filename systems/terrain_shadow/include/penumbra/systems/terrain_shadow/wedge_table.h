@@ -1,4 +1,4 @@
-// SH visibility from horizon angles by wedge tables (000_7ffde676d1c99e20.txt eq. 4.15-4.19,
+// SH visibility from horizon angles by wedge tables ([Meier13] eq. 4.15-4.19,
 // 4.26; Snyder and Nowrouzezahrai 2008). [Interface fixed by the system.]
 //
 // Azimuth k spans the wedge [phi_k, phi_k + dphi], dphi = 2 pi / n_phi, over which the horizon
