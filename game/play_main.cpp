@@ -1,4 +1,5 @@
-// The main job: the sample world through the job graph and the Vulkan renderer.
+// The main job: the terrain demo (or the sample world) through the job graph and the Vulkan
+// renderer.
 //
 //   penumbra_play [--scene terrain|sample] [--data DIR] [--frames N] [--threads T] [--particles N]
 //   [--trace FILE] [--dot FILE]

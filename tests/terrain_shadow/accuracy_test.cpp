@@ -286,7 +286,7 @@ void default_configuration_under_two_hdr_maps(std::string_view name) {
 // from every receiver at >= 35 degrees elevation, 5-6 degrees across, never occluded. Both light
 // shadings of the system:
 //  - kCapHorizon (the system's default when written): the cap's cosine-weighted solid angle above
-//    the horizon and the tangent plane, integrated directly (light_horizon.h), with its default
+//    the horizon and the tangent plane, integrated directly (cap_transfer.h), with its default
 //    radial-sweep horizons and with the march. Exact up to its chord quadrature: measured
 //    0.00-0.01% rel_rms, max 0.05%, for both.
 //  - kShWedges ([Meier13] eq. 4.22-4.29), march horizons (ls 4, lo 2, 16 azimuths): sphere wedge
@@ -637,7 +637,7 @@ TEST(TerrainFailureModes, ThinWallBetweenMarchSamples) {
 // patch in front of the ridge, 43% of its light blocked by the ridge (reference: mean irradiance
 // of the patch with the ridge against the flat patch without it). Measured (rel_rms, max_rel,
 // shadowed fraction):
-//  - kCapHorizon (direct cap integral, light_horizon.h) with the exact radial sweep (its default
+//  - kCapHorizon (direct cap integral, cap_transfer.h) with the exact radial sweep (its default
 //    cap_method) or brute-force horizons: 0.65%, 4.1%, 0.433 (one horizon along the light's
 //    azimuth), 0.67%, 3.8%, 0.432 with 4 brute-force horizons across the cap. (An earlier state
 //    of the system measured 3.2%, 13.7% with one horizon; the bounds keep room for either.)

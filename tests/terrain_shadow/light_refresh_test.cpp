@@ -10,7 +10,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "penumbra/systems/terrain_shadow/light_horizon.h"
+#include "penumbra/systems/terrain_shadow/cap_transfer.h"
+#include "penumbra/systems/terrain_shadow/light_horizon_march.h"
+#include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 #include "terrain_test_util.h"
 

@@ -1,8 +1,10 @@
 // Light shading modes of TerrainShadowing (kShWedges: [Meier13] eq. 4.22-4.29;
-// kCapHorizon: light_horizon.h) against closed forms and a brute-force quadrature of
+// kCapHorizon: cap_transfer.h) against closed forms and a brute-force quadrature of
 // int_cap V max(0, n.w) dw with exact horizons (ray_horizon). Tolerances are measured errors
 // with margin; the measured values are quoted next to each.
-#include "penumbra/systems/terrain_shadow/light_horizon.h"
+#include "penumbra/systems/terrain_shadow/cap_transfer.h"
+#include "penumbra/systems/terrain_shadow/light_horizon_march.h"
+#include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
 
 #include <gtest/gtest.h>
 

@@ -4,14 +4,16 @@
 // visibly follow. A debug view draws the horizon wedges of one texel (the one under the cursor
 // in the window, the view centre headless).
 //
-// Systems (register with add_terrain_demo_systems; they run in this order):
+// Systems (registered by add_terrain_demo_systems in this order; the job graph runs those
+// whose declared accesses do not conflict side by side):
 //   demo_clock        writes FrameTime (fixed 1/30 s steps: headless runs are reproducible)
 //   demo_animate      reads FrameTime, writes EnvironmentLight (rotation), SphericalLight
 //                     (path), Terrain (brush edits), RenderSettings (sky rotation)
-//   demo_camera       reads FrameTime, writes Camera (slow orbit)
+//   demo_camera       reads FrameTime, Terrain, writes Camera (slow orbit)
 //   terrain_shadow.*  (systems/terrain_shadow)
-//   demo_debug_view   reads TerrainHorizons, writes DebugSphere (the light's extent) and the
-//                     terrain's DebugLines (the horizon wedges under the probe)
+//   demo_debug_view   reads Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe,
+//                     writes DebugSphere (the light's extent) and the terrain's DebugLines (the
+//                     horizon wedges under the probe)
 //   render_extract    (systems/render_extract: the packet's only writer)
 #pragma once
 

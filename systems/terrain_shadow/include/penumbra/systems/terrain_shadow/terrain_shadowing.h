@@ -7,7 +7,7 @@
 // like reference::height_field_receivers):
 //   environment:  horizons (clamped at 0) -> hemisphere wedge table -> V (eq. 4.19)
 //                 -> transfer T = V * C(n) (eq. 4.21), stored;  E_env = L_env . T
-//   each light, light_shading = kCapHorizon (default; ours, light_horizon.h): the horizon
+//   each light, light_shading = kCapHorizon (default; ours, cap_transfer.h): the horizon
 //                 towards the light only, limited to its plane distance (a radial line sweep
 //                 from the light's foot: exact; three ray_horizon directions across wide caps
 //                 the horizon passes near, see cap_wide) -> E_l = L * int_cap V max(0, n.w) dw,
@@ -40,7 +40,9 @@
 #include "penumbra/systems/terrain_shadow/height_pyramid.h"
 #include "penumbra/systems/terrain_shadow/horizon.h"
 #include "penumbra/systems/terrain_shadow/horizon_march.h"
-#include "penumbra/systems/terrain_shadow/light_horizon.h"
+#include "penumbra/systems/terrain_shadow/cap_transfer.h"
+#include "penumbra/systems/terrain_shadow/light_horizon_march.h"
+#include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
 
 namespace penumbra::terrain_shadow {
@@ -57,7 +59,7 @@ enum class LightShading {
   kShWedges,    // [Meier13] eq. 4.22-4.29 (the thesis): light_azimuths horizons by light_method,
                 // sphere wedge table, SH transfer, E = L_cap . (V * C(n))
   kCapHorizon,  // ours: the horizon towards the cap only (cap_method), exact cap integral
-                // (light_horizon.h)
+                // (cap_transfer.h)
 };
 const char* to_string(LightShading s);
 
@@ -70,7 +72,7 @@ struct TerrainShadowConfig {
   HorizonMethod light_method = HorizonMethod::kMarch;
   int light_azimuths = 16;  // kShWedges: n_phi of the sphere wedge table
   // kCapHorizon: the horizon towards the light: kSweep = RadialHorizonSweep (exact), kMarch =
-  // LightHorizonMarch (pyramid, [Meier13] eq. 4.22-4.25), kBruteForce = ray_horizon (light_horizon.h).
+  // LightHorizonMarch (pyramid, [Meier13] eq. 4.22-4.25), kBruteForce = ray_horizon (cap_transfer.h).
   HorizonMethod cap_method = HorizonMethod::kSweep;
   int cap_horizons = 3;  // kCapHorizon: horizon directions across a cap, 1..kMaxCapHorizons
   // kCapHorizon with kSweep: a cap with rho = radius / distance >= cap_wide (near the light)

@@ -1,0 +1,63 @@
+// Cap-vs-horizon shading of one spherical light (TerrainShadowConfig::light_shading =
+// kCapHorizon; ours, not the thesis's SH path of [Meier13] eq. 4.22-4.29). The light matters
+// only inside its cap, so the visibility is modelled only there: the horizon towards the light
+// (radial_horizon_sweep.h, or light_horizon_march.h, or ray_horizon), then cap_transfer, the
+// cosine-weighted solid angle of the part of the cap above that horizon and above the
+// receiver's tangent plane, int_cap V(w) max(0, n.w) dw, integrated directly (no SH, so no
+// ringing and no band-limit blur of small lights): E = L * cap_transfer.
+// Where its time goes: docs/terrain_shadow.md ("Light shading, measured").
+//
+// Integration: the cap projected orthographically onto the plane perpendicular to its centre
+// direction c is a disc of radius rho = r / |d|; with w = c0 c + s s^ + u u^ (u^ "up", s^
+// horizontal, c0 = sqrt(1 - s^2 - u^2)) the solid angle is ds du / c0. The disc is cut into
+// `strips` chords of constant s at s = rho cos(psi_j), psi_j = (j + 1/2) pi / strips (the
+// midpoint rule in psi, exact for the unoccluded disc). Along a chord the horizon (elevation >
+// omega) bounds u by square roots alone (u = a cos e -+ sqrt(1 - s^2 - a^2) sin e, a = sin
+// omega, e the centre's elevation), and the integral of (n.w) / c0 du is closed-form (an asin
+// and a square root): eight chords at a time. A cap the tangent plane cuts is integrated in t,
+// u = sqrt(1 - s^2) sin t (du / c0 = dt), where the plane bounds t by a sinusoid. The horizon
+// is taken constant along a chord, at the azimuth of the chord's centre (u = 0), and linear in
+// s between the horizon samples (sin of the angle interpolated; constant beyond the outer
+// samples). Fast paths: horizon below the whole cap and cap above the tangent plane: pi rho^2
+// (n.c), exact; horizon above the whole cap: 0. Caps that contain the zenith take every chord
+// at its centre's azimuth (near receivers under a light, which the horizon rarely reaches).
+//
+// Threading: pure functions.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace penumbra::terrain_shadow {
+
+// A spherical light's cap seen from a receiver, in the frame cap_transfer integrates in.
+struct LightCap {
+  glm::vec3 dir{0.0f, 0.0f, 1.0f};  // unit, towards the centre (c)
+  glm::vec2 plane_dir{1.0f, 0.0f};  // unit horizontal part of dir (any when straight up/down)
+  float rho = 0;                    // sin of the half-angle: radius / distance, in (0, 1)
+  float cos_half = 1;               // sqrt(1 - rho^2)
+  float sin_e = 1, cos_e = 0;       // elevation of dir
+  float plane_distance = 0;         // |to_centre.xy| (metres)
+};
+
+// False (the light contributes nothing) for radius <= 0, a receiver inside or on the light
+// (|to_centre| <= radius) or a non-finite input.
+bool make_light_cap(const glm::vec3& to_centre, float radius, LightCap& cap);
+
+// Plane direction (unit) of horizon sample j of `count` (1 <= count <= kMaxCapHorizons): the
+// azimuth of the cap's point s = rho tau_j, u = 0, tau_j = -cos(pi (j + 1) / (count + 1))
+// (count 1: the centre's own azimuth).
+inline constexpr int kMaxCapHorizons = 4;
+glm::vec2 cap_horizon_direction(const LightCap& cap, int j, int count);
+
+// int_cap V(w) max(0, n.w) dw (steradians; E = radiance * this), with V = 1 above the horizon
+// given by `horizon[j]` (elevation, radians) at cap_horizon_direction(cap, j, count), `normal`
+// unit. 1 <= count <= kMaxCapHorizons; strips is clamped to [1, kMaxCapStrips]. Against a fine
+// quadrature with a constant horizon (light_shading_test.cpp), in units of pi rho^2: caps under
+// 3.4 degrees away from the zenith within 2.8e-3 with 8 strips; any cap (up to 70 degrees,
+// around the zenith, cut by the tangent plane) within 3e-2 with 8 strips, 1.7e-3 with 64.
+inline constexpr int kMaxCapStrips = 64;
+float cap_transfer(const LightCap& cap, const glm::vec3& normal, const float* horizon, int count,
+                   int strips = 8);
+
+}  // namespace penumbra::terrain_shadow

@@ -1,0 +1,216 @@
+#include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+
+#include "fast_atan.h"
+#include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+
+namespace penumbra::terrain_shadow {
+namespace {
+
+constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
+
+}  // namespace
+
+namespace {
+
+// floor / ceil of v as an int, v first clamped to [lo - 1, hi + 1] (far-away feet).
+int clamped_floor(double v, int lo, int hi) {
+  return static_cast<int>(std::floor(std::clamp(v, lo - 1.0, hi + 1.0)));
+}
+int clamped_ceil(double v, int lo, int hi) {
+  return static_cast<int>(std::ceil(std::clamp(v, lo - 1.0, hi + 1.0)));
+}
+
+}  // namespace
+
+void RadialHorizonSweep::limit_lines(Side& side, std::span<const TexelRect> regions) const {
+  // horizon() reads lines l0 and l0 + 1 at column k, l0 = floor(m J - j_lo) for the texel's
+  // slope m = rv / ru about the side's major axis. Over a rectangle with ru > 0, m is extreme at
+  // its corners; one line of margin either side covers the rounding of horizon()'s floats.
+  side.line_end.assign(static_cast<std::size_t>(side.lines), 0);
+  const float fu = side.x_major ? foot_.x : foot_.y, fv = side.x_major ? foot_.y : foot_.x;
+  for (const TexelRect& r : regions) {
+    if (r.empty()) continue;
+    const int ua = side.x_major ? r.x0 : r.y0, ub = (side.x_major ? r.x1 : r.y1) - 1;
+    const int va = side.x_major ? r.y0 : r.x0, vb = (side.x_major ? r.y1 : r.x1) - 1;
+    const int ka = side.sign * (ua - side.u_first), kb = side.sign * (ub - side.u_first);
+    const int k_lo = std::max(std::min(ka, kb), 0);
+    const int k_hi = std::min(std::max(ka, kb), side.columns - 1);
+    if (k_lo > k_hi) continue;
+    const float ru_lo =
+        std::max(side.sign * (static_cast<float>(side.u_first + side.sign * k_lo) - fu), 1e-6f);
+    const float ru_hi = side.sign * (static_cast<float>(side.u_first + side.sign * k_hi) - fu);
+    float m_lo = 1, m_hi = -1;
+    for (const float rv : {static_cast<float>(va) - fv, static_cast<float>(vb) - fv})
+      for (const float ru : {ru_lo, std::max(ru_hi, ru_lo)}) {
+        const float m = std::clamp(rv / ru, -1.0f, 1.0f);
+        m_lo = std::min(m_lo, m);
+        m_hi = std::max(m_hi, m);
+      }
+    const float j0 = static_cast<float>(side.j_lo);
+    const int last = side.lines - 1;
+    const int l_lo = std::clamp(static_cast<int>(std::floor(m_lo * side.lines_per_slope - j0)) - 1,
+                                0, std::max(last - 1, 0));
+    const int l_hi = std::clamp(static_cast<int>(std::floor(m_hi * side.lines_per_slope - j0)) + 2,
+                                std::min(1, last), last);
+    for (int l = l_lo; l <= l_hi; ++l)
+      side.line_end[static_cast<std::size_t>(l)] =
+          std::max(side.line_end[static_cast<std::size_t>(l)], k_hi + 1);
+  }
+}
+
+void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, glm::vec2 foot,
+                             float reach, std::span<const TexelRect> regions) {
+  field_ = &f;
+  height_scale_ = height_scale;
+  foot_ = foot / f.cell_size;
+  foot_inside_ = foot_.x >= 0 && foot_.y >= 0 && foot_.x <= static_cast<float>(f.width - 1) &&
+                 foot_.y <= static_cast<float>(f.height - 1);
+  for (int index = 0; index < 4; ++index) {
+    Side& side = sides_[index];
+    side.x_major = index < 2;
+    side.sign = index % 2 == 0 ? 1 : -1;
+    const int size_u = side.x_major ? f.width : f.height;
+    const int size_v = side.x_major ? f.height : f.width;
+    const double u0 = side.x_major ? foot.x / f.cell_size : foot.y / f.cell_size;
+    const double v0 = side.x_major ? foot.y / f.cell_size : foot.x / f.cell_size;
+    // Columns at r = sign (u - u0) >= 0 inside the field.
+    int u_last;
+    if (side.sign > 0) {
+      side.u_first = std::max(0, clamped_ceil(u0, 0, size_u - 1));
+      u_last = size_u - 1;
+      side.columns = u_last - side.u_first + 1;
+    } else {
+      side.u_first = std::min(size_u - 1, clamped_floor(u0, 0, size_u - 1));
+      u_last = 0;
+      side.columns = side.u_first - u_last + 1;
+    }
+    side.lines = 0;
+    if (side.columns <= 0) continue;
+    const double r_near = side.sign * (side.u_first - u0), r_far = side.sign * (u_last - u0);
+    const double lines_per_slope = std::max(1.0, std::ceil(r_far));
+    side.lines_per_slope = static_cast<float>(lines_per_slope);
+    // Columns beyond the reach are not swept (the lines stay those of the whole field, so the
+    // horizons within the reach are the same as without it).
+    const double reach_columns = std::ceil(static_cast<double>(reach) / f.cell_size) + 1 - r_near;
+    if (reach_columns < side.columns) side.columns = std::max(1, static_cast<int>(reach_columns));
+    // Only the lines that reach the field: v = v0 + r m in [0, size_v - 1] for some r.
+    double m_lo = -1, m_hi = 1;
+    if (r_near > 0) {
+      m_lo = std::max(m_lo, std::min(-v0 / r_near, -v0 / r_far));
+      m_hi = std::min(m_hi, std::max((size_v - 1 - v0) / r_near, (size_v - 1 - v0) / r_far));
+    }
+    const double j_lo = std::floor(m_lo * lines_per_slope),
+                 j_hi = std::ceil(m_hi * lines_per_slope);
+    if (j_lo > j_hi) continue;
+    side.j_lo = static_cast<int>(j_lo);
+    side.lines = static_cast<int>(j_hi - j_lo) + 1;
+    side.angle.resize(static_cast<std::size_t>(side.lines) * side.columns);
+    side.line_end.clear();
+    if (!regions.empty()) limit_lines(side, regions);
+    const std::size_t stride_u = side.x_major ? 1 : static_cast<std::size_t>(f.width);
+    const std::size_t stride_v = side.x_major ? static_cast<std::size_t>(f.width) : 1;
+    const float* heights = f.heights.data();
+    const double v_max = size_v - 1;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, side.lines, 8), [&](const tbb::blocked_range<int>& range) {
+          std::vector<float> hull_r(static_cast<std::size_t>(side.columns)),
+              hull_h(static_cast<std::size_t>(side.columns));
+          for (int line = range.begin(); line < range.end(); ++line) {
+            const double m = (j_lo + line) / lines_per_slope;
+            const float inv_metres = static_cast<float>(1 / (std::sqrt(1 + m * m) * f.cell_size));
+            float* out = side.angle.data() + static_cast<std::size_t>(line) * side.columns;
+            const int columns = side.line_end.empty()
+                                    ? side.columns
+                                    : side.line_end[static_cast<std::size_t>(line)];
+            if (columns == 0) continue;
+            // Columns whose point v = v0 + (r_near + k) m lies in [0, size_v - 1] (within 1e-5).
+            double k_min = 0, k_max = columns - 1;
+            if (m != 0) {
+              const double k_a = (-1e-5 - v0) / m - r_near, k_b = (v_max + 1e-5 - v0) / m - r_near;
+              k_min = std::max(k_min, std::ceil(std::min(k_a, k_b)));
+              k_max = std::min(k_max, std::floor(std::max(k_a, k_b)));
+            } else if (!(v0 > -1e-5 && v0 < v_max + 1e-5)) {
+              k_max = -1;
+            }
+            const int first = static_cast<int>(std::min(k_min, static_cast<double>(columns)));
+            const int end = std::max(first, static_cast<int>(k_max) + 1);
+            std::fill(out, out + first, std::numeric_limits<float>::quiet_NaN());
+            std::fill(out + end, out + columns, std::numeric_limits<float>::quiet_NaN());
+            float* hr = hull_r.data();
+            float* hh = hull_h.data();
+            int n = 0;
+            for (int k = first; k < end; ++k) {
+              const double r = r_near + k;
+              const double v = v0 + r * m;
+              int vi = static_cast<int>(std::floor(v));
+              float fv = static_cast<float>(v - vi);
+              if (fv > 1 - 1e-5f) {
+                ++vi;
+                fv = 0;
+              }
+              if (vi < 0 || vi >= size_v - 1) {  // on the border line (within 1e-5)
+                vi = std::clamp(vi, 0, size_v - 1);
+                fv = 0;
+              }
+              const float* sample =
+                  heights + static_cast<std::size_t>(side.u_first + side.sign * k) * stride_u +
+                  static_cast<std::size_t>(vi) * stride_v;
+              const float h =
+                  height_scale * (sample[0] + fv * (sample[fv > 0 ? stride_v : 0] - sample[0]));
+              const float rf = static_cast<float>(r);
+              // The tangent from (r, h) to the upper hull of the samples between it and F.
+              while (n >= 2 &&
+                     (hh[n - 1] - h) * (rf - hr[n - 2]) <= (hh[n - 2] - h) * (rf - hr[n - 1]))
+                --n;
+              out[k] = n > 0 ? (hh[n - 1] - h) / (rf - hr[n - 1]) * inv_metres
+                             : -std::numeric_limits<float>::infinity();
+              hr[n] = rf;
+              hh[n] = h;
+              ++n;
+            }
+            if (end > first)  // slopes to angles; -inf (nothing in between) gives -pi/2
+              detail::fast_atan_array(out + first, static_cast<std::size_t>(end - first));
+          }
+        });
+  }
+}
+
+float RadialHorizonSweep::horizon(int x, int y) const {
+  const float rx = static_cast<float>(x) - foot_.x, ry = static_cast<float>(y) - foot_.y;
+  if (rx == 0 && ry == 0) return -kHalfPi;
+  const int index = std::fabs(rx) >= std::fabs(ry) ? (rx > 0 ? 0 : 1) : (ry > 0 ? 2 : 3);
+  const Side& side = sides_[index];
+  if (side.lines == 0) return -kHalfPi;
+  const int u = side.x_major ? x : y;
+  const float ru = std::fabs(side.x_major ? rx : ry), rv = side.x_major ? ry : rx;
+  const float jf = rv / ru * side.lines_per_slope - static_cast<float>(side.j_lo);
+  const int l0 = std::clamp(static_cast<int>(std::floor(jf)), 0, std::max(side.lines - 2, 0));
+  const float t = side.lines > 1 ? std::clamp(jf - static_cast<float>(l0), 0.0f, 1.0f) : 0.0f;
+  const int k = side.sign * (u - side.u_first);
+  if (k < 0 || k >= side.columns) return -kHalfPi;
+  const float* a = side.angle.data() + static_cast<std::size_t>(l0) * side.columns + k;
+  const float lo = a[0], hi = side.lines > 1 ? a[side.columns] : lo;
+  if (std::isnan(lo) || std::isnan(hi)) {
+    // A line beside the texel is outside the field here. With F outside, the texel's own ray
+    // may leave the field where its neighbour line does not (grazing the border): exact ray.
+    if (!foot_inside_) {
+      const glm::vec2 r = foot_ - glm::vec2(x, y);
+      return ray_horizon(*field_, height_scale_, glm::vec2(x, y), height_scale_ * field_->at(x, y),
+                         std::atan2(r.y, r.x), std::sqrt(glm::dot(r, r)) * field_->cell_size,
+                         false);
+    }
+    return std::isnan(lo) ? (std::isnan(hi) ? -kHalfPi : hi) : lo;
+  }
+  return lo + t * (hi - lo);
+}
+
+}  // namespace penumbra::terrain_shadow
