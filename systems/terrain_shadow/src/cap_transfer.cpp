@@ -8,7 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "fast_atan.h"
+#include "fast_math.h"
 
 #ifdef __AVX2__
 #include <immintrin.h>
@@ -19,14 +19,6 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kHalfPi = kPi / 2;
-
-// asin and acos through fast_atan (1.1e-7 rad): |x| <= 1; +-1 give +-pi/2 (x / 0 = +-inf).
-inline float fast_asin(float x) {
-  return detail::fast_atan(x / std::sqrt(std::max((1 - x) * (1 + x), 0.0f)));
-}
-inline float fast_acos(float x) {
-  return kHalfPi - fast_asin(x);
-}
 
 // tau_j of cap_horizon_direction for count 1..kMaxCapHorizons, ascending.
 struct HorizonNodes {
@@ -68,17 +60,6 @@ glm::vec2 cap_horizon_direction(const LightCap& cap, int j, int count) {
 }
 
 namespace {
-
-// sin on [-pi/2, pi/2]: odd minimax-style polynomial (Taylor to x^11), error < 6e-8.
-inline float fast_sin(float x) {
-  const float x2 = x * x;
-  float p = -2.50521084e-8f;
-  p = p * x2 + 2.75573192e-6f;
-  p = p * x2 - 1.98412698e-4f;
-  p = p * x2 + 8.33333333e-3f;
-  p = p * x2 - 1.66666667e-1f;
-  return x + x * x2 * p;
-}
 
 // Chord nodes of cap_transfer for 1..kMaxStrips strips: cos and sin of psi_j.
 constexpr int kMaxStrips = kMaxCapStrips;
@@ -212,12 +193,12 @@ float general_chords(const CapFrame& f) {
   for (int j = 0; j < f.strips; ++j) {
     const float s = f.rho * f.cos_psi[j], h = f.rho * f.sin_psi[j];
     const float r = std::sqrt(1 - s * s);
-    const float t_max = fast_asin(std::min(h / r, 1.0f));
+    const float t_max = detail::fast_asin(std::min(h / r, 1.0f));
     float lo = -t_max, hi = t_max;
     const float ratio = f.horizon[j] / r;
     if (ratio >= 1) continue;  // the whole chord is below the horizon
     if (ratio > -1) {
-      const float as = fast_asin(ratio);  // e + t in (as, pi - as)
+      const float as = detail::fast_asin(ratio);  // e + t in (as, pi - as)
       lo = std::max(lo, as - e);
       hi = std::min(hi, kPi - as - e);
     }
@@ -230,7 +211,7 @@ float general_chords(const CapFrame& f) {
       if (b <= -1) {
         part = chord(r, s, lo, hi);
       } else if (b < 1) {
-        const float width = fast_acos(b);
+        const float width = detail::fast_acos(b);
         for (int k = -1; k <= 1; ++k) {
           const float centre = phase + 2 * kPi * static_cast<float>(k);
           const float l = std::max(lo, centre - width), u = std::min(hi, centre + width);
@@ -257,7 +238,7 @@ float cap_transfer(const LightCap& cap, const glm::vec3& n, const float* horizon
   std::array<float, kMaxCapHorizons> sh{};
   float lowest = 1, highest = -1;
   for (int j = 0; j < count; ++j) {
-    sh[j] = fast_sin(std::clamp(horizon[j], -kHalfPi, kHalfPi));
+    sh[j] = detail::fast_sin(std::clamp(horizon[j], -kHalfPi, kHalfPi));
     lowest = std::min(lowest, sh[j]);
     highest = std::max(highest, sh[j]);
   }

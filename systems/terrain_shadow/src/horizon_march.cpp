@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "fast_atan.h"
+#include "fast_math.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow {

@@ -13,7 +13,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include "fast_atan.h"
+#include "fast_math.h"
 #include "sweep_geometry.h"
 #include "sweep_lanes.h"
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "fast_atan.h"
+#include "fast_math.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow {

@@ -9,7 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
-#include "fast_atan.h"
+#include "fast_math.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 
 namespace penumbra::terrain_shadow {

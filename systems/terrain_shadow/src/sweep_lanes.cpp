@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-#include "fast_atan.h"
+#include "fast_math.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow::detail {
