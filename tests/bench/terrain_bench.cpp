@@ -38,7 +38,7 @@
 //   lights:          for the texels the light is not culled for: march samples up to the light
 //                    as above per horizon direction; SH wedges: 16 azimuths, sphere wedges
 //                    5 N^2 each, transfer, cap radiance 2 N^2 and dot N^2; cap horizon:
-//                    16 for the radial sweep's hull step (cap_method kSweep, else
+//                    16 for the radial sweep's hull step (cap_method kRadialSweep, else
 //                    cap_horizons march rays), 10 per chord (cap_strips) + 20 set-up
 //   edit:            the texels whose horizons or normal changed (UpdateStats::transfer_texels)
 //                    times (n_phi sweep pairs + wedges + transfer)
@@ -304,7 +304,7 @@ struct EnvConfig {
     } else {  // brute force: the texel's whole ray, about size / 2 samples on average
       horizon = (3.0 + 1.0) * size / 2 + kAtanOps;
     }
-    // The pyramid is built only for the march (the default lights sweep: cap_method kSweep).
+    // The pyramid is built only for the march (the default lights sweep: cap_method kRadialSweep).
     const double pyramid = method == "march" ? texels * levels * kPyramidOpsPerSample : 0.0;
     return texels * (n_phi * (horizon + wedge_ops(bands)) + transfer_ops(bands)) + pyramid;
   }
@@ -490,7 +490,7 @@ double light_ops(const ts::TerrainShadowing<N>& s, const LightDesc& l) {
         ops += c.light_azimuths * (ray + wedge_ops(N)) + transfer_ops<N>() + 3.0 * N * N;
       else  // the radial sweep: one amortised hull step per texel; else cap_horizons rays
         ops +=
-            (c.cap_method == ts::HorizonMethod::kSweep ? kSweepOpsPerPair : c.cap_horizons * ray) +
+            (c.cap_method == ts::CapHorizons::kRadialSweep ? kSweepOpsPerPair : c.cap_horizons * ray) +
             kCapOpsPerStrip * c.cap_strips + kCapSetupOps;
     }
   return ops;

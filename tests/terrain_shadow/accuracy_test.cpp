@@ -321,14 +321,17 @@ reference::SphereLight overhead_light(const assets::HeightField& f) {
 }
 
 // kShWedges takes its horizons from light_method (march or brute force), kCapHorizon from
-// cap_method (sweep, march or brute force).
-TerrainShadowConfig light_config(terrain_shadow::LightShading shading, HorizonMethod method) {
+// cap_method (radial sweep, march or rays).
+TerrainShadowConfig light_config(terrain_shadow::CapHorizons method) {
   TerrainShadowConfig c;
-  c.light_shading = shading;
-  if (shading == terrain_shadow::LightShading::kShWedges)
-    c.light_method = method;
-  else
-    c.cap_method = method;
+  c.light_shading = terrain_shadow::LightShading::kCapHorizon;
+  c.cap_method = method;
+  return c;
+}
+TerrainShadowConfig light_config(terrain_shadow::LightWedgeHorizons method) {
+  TerrainShadowConfig c;
+  c.light_shading = terrain_shadow::LightShading::kShWedges;
+  c.light_method = method;
   return c;
 }
 
@@ -343,8 +346,9 @@ void overhead_light_accuracy(std::string_view name) {
   o.samples = kSamples;
   const ReferenceIrradiance ref = reference_irradiance(*field, kScale, rs, l, o);
 
-  for (HorizonMethod m : {HorizonMethod::kSweep, HorizonMethod::kMarch}) {
-    TerrainShadowing<4> cap(light_config(LightShading::kCapHorizon, m));
+  for (terrain_shadow::CapHorizons m :
+       {terrain_shadow::CapHorizons::kRadialSweep, terrain_shadow::CapHorizons::kMarch}) {
+    TerrainShadowing<4> cap(light_config(m));
     cap.update(field, kScale);
     const ErrorSummary c = compare(light_only(cap, light), ref.texels, ref.lights);
     report(std::string(name) + " overhead light, cap_horizon " + terrain_shadow::to_string(m), c);
@@ -352,7 +356,7 @@ void overhead_light_accuracy(std::string_view name) {
     EXPECT_LT(c.max_rel, 0.01) << name;
   }
 
-  TerrainShadowing<4> wedges(light_config(LightShading::kShWedges, HorizonMethod::kMarch));
+  TerrainShadowing<4> wedges(light_config(terrain_shadow::LightWedgeHorizons::kMarch));
   wedges.update(field, kScale);
   const ErrorSummary w = compare(light_only(wedges, light), ref.texels, ref.lights);
   report(std::string(name) + " overhead light, sh_wedges march n16", w);
@@ -687,18 +691,18 @@ TEST(TerrainLights, LightPartlyOccludedByARidge) {
     return std::pair{s, e};
   };
   double sh_sweep = 0, sh_cap1 = 0, sh_cap4 = 0, sh_march = 0, sh_wedge = 0;
-  const ErrorSummary cap_sweep = run(light_config(LightShading::kCapHorizon, HorizonMethod::kSweep),
+  const ErrorSummary cap_sweep = run(light_config(terrain_shadow::CapHorizons::kRadialSweep),
                                      "cap_horizon sweep", &sh_sweep)
                                      .first;
-  TerrainShadowConfig c = light_config(LightShading::kCapHorizon, HorizonMethod::kBruteForce);
+  TerrainShadowConfig c = light_config(terrain_shadow::CapHorizons::kRays);
   const ErrorSummary cap1 = run(c, "cap_horizon brute_force, 1 horizon", &sh_cap1).first;
   c.cap_horizons = 4;
   const ErrorSummary cap4 = run(c, "cap_horizon brute_force, 4 horizons", &sh_cap4).first;
-  const ErrorSummary cap_march = run(light_config(LightShading::kCapHorizon, HorizonMethod::kMarch),
+  const ErrorSummary cap_march = run(light_config(terrain_shadow::CapHorizons::kMarch),
                                      "cap_horizon march ls4 lo2", &sh_march)
                                      .first;
   const auto [wedge, wedge_e] =
-      run(light_config(LightShading::kShWedges, HorizonMethod::kBruteForce),
+      run(light_config(terrain_shadow::LightWedgeHorizons::kBruteForce),
           "sh_wedges brute_force n16", &sh_wedge);
 
   EXPECT_LT(cap_sweep.rel_rms, 0.05);
@@ -744,8 +748,8 @@ TEST(TerrainLights, GrazingLight) {
   const auto flat = flat_field(64);
   const std::vector<glm::ivec2> texel = {{32, 32}};
   const ReceiverSet rs = texel_receivers(*flat, kScale, texel);
-  TerrainShadowing<4> wedges(light_config(LightShading::kShWedges, HorizonMethod::kMarch));
-  TerrainShadowing<4> cap(light_config(LightShading::kCapHorizon, HorizonMethod::kMarch));
+  TerrainShadowing<4> wedges(light_config(terrain_shadow::LightWedgeHorizons::kMarch));
+  TerrainShadowing<4> cap(light_config(terrain_shadow::CapHorizons::kMarch));
   wedges.update(flat, kScale);
   cap.update(flat, kScale);
   for (float deg : {2.0f, 5.0f, 20.0f, 45.0f, 90.0f}) {

@@ -140,7 +140,7 @@ TEST(LightRefresh, BudgetSpreadsALightWorstFirstAndConverges) {
 }
 
 TEST(LightRefresh, RegionShadingEqualsFullShading) {
-  for (const HorizonMethod cap : {HorizonMethod::kSweep, HorizonMethod::kMarch}) {
+  for (const CapHorizons cap : {CapHorizons::kRadialSweep, CapHorizons::kMarch}) {
     TerrainShadowConfig config;
     config.cap_method = cap;
     TerrainShadowing<4> s(config);

@@ -42,7 +42,8 @@ std::shared_ptr<const assets::HeightField> flat(int n, float h = 0) {
   return f;
 }
 
-TerrainShadowConfig mode(LightShading shading, HorizonMethod cap_method = HorizonMethod::kSweep) {
+TerrainShadowConfig mode(LightShading shading,
+                         CapHorizons cap_method = CapHorizons::kRadialSweep) {
   TerrainShadowConfig c;
   c.light_shading = shading;
   c.cap_method = cap_method;
@@ -240,8 +241,8 @@ TEST(LightShading, ModesAgainstBruteForceOnATerrain) {
   const float radius = 1.5f;
   std::vector<std::vector<glm::vec3>> results;
   const TerrainShadowConfig configs[] = {
-      mode(LightShading::kCapHorizon), mode(LightShading::kCapHorizon, HorizonMethod::kBruteForce),
-      mode(LightShading::kCapHorizon, HorizonMethod::kMarch), mode(LightShading::kShWedges)};
+      mode(LightShading::kCapHorizon), mode(LightShading::kCapHorizon, CapHorizons::kRays),
+      mode(LightShading::kCapHorizon, CapHorizons::kMarch), mode(LightShading::kShWedges)};
   for (const TerrainShadowConfig& c : configs) {
     TerrainShadowing<4> ts(c);
     ts.update(f, 1.0f);

@@ -129,7 +129,7 @@ TEST(TerrainShadowing, RejectsBadInputNamingIt) {
     EXPECT_NE(std::string(e.what()).find("broken.pgm"), std::string::npos) << e.what();
   }
   TerrainShadowConfig bad;
-  bad.light_method = HorizonMethod::kSweep;
+  bad.azimuths = 2;
   EXPECT_THROW(TerrainShadowing<4>{bad}, std::invalid_argument);
 }
 

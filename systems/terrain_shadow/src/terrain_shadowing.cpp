@@ -33,6 +33,28 @@ const char* to_string(HorizonMethod m) {
   return "?";
 }
 
+const char* to_string(LightWedgeHorizons h) {
+  switch (h) {
+    case LightWedgeHorizons::kMarch:
+      return "march";
+    case LightWedgeHorizons::kBruteForce:
+      return "brute_force";
+  }
+  return "?";
+}
+
+const char* to_string(CapHorizons h) {  // the names the benchmark records use
+  switch (h) {
+    case CapHorizons::kRadialSweep:
+      return "sweep";
+    case CapHorizons::kMarch:
+      return "march";
+    case CapHorizons::kRays:
+      return "brute_force";
+  }
+  return "?";
+}
+
 const char* to_string(LightShading s) {
   switch (s) {
     case LightShading::kShWedges:
@@ -48,10 +70,6 @@ namespace {
 constexpr float kTwoPi = 2 * std::numbers::pi_v<float>;
 
 TerrainShadowConfig checked(const TerrainShadowConfig& c) {
-  if (c.light_method == HorizonMethod::kSweep)
-    throw std::invalid_argument(
-        "terrain shadow config: local lights need a distance limit, which the sweep lacks "
-        "(use march or brute_force)");
   if (c.azimuths < 3 || c.light_azimuths < 3)
     throw std::invalid_argument("terrain shadow config: at least 3 azimuths needed");
   if (c.cap_horizons < 1 || c.cap_horizons > kMaxCapHorizons)
@@ -159,9 +177,9 @@ UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const assets::HeightFiel
   pyramid_valid_ = false;
   if (config_.method == HorizonMethod::kMarch ||
       (config_.light_shading == LightShading::kShWedges &&
-       config_.light_method == HorizonMethod::kMarch) ||
+       config_.light_method == LightWedgeHorizons::kMarch) ||
       (config_.light_shading == LightShading::kCapHorizon &&
-       config_.cap_method == HorizonMethod::kMarch)) {
+       config_.cap_method == CapHorizons::kMarch)) {
     pyramid_.build(f, height_scale, config_.pyramid);
     pyramid_valid_ = true;
   }
@@ -309,7 +327,7 @@ void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
     if (!span_lit(span, centre, radius)) return;
     const TexelRect row{span.x0, y, span.x1, y + 1};
     // [Meier13] eq. 4.22-4.25 (row by row: rows are the parallel tiles).
-    if (config_.light_method == HorizonMethod::kMarch)
+    if (config_.light_method == LightWedgeHorizons::kMarch)
       march_horizons(pyramid_, p, config_.march, row, light_horizons_);
     else
       for (int x = span.x0; x < span.x1; ++x)
@@ -338,12 +356,12 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                                         const std::vector<Span>& spans, float reach,
                                         std::span<const TexelRect> regions) {
   const assets::HeightField& f = *field_;
-  const HorizonMethod method = config_.cap_method;
+  const CapHorizons method = config_.cap_method;
   std::optional<LightHorizonMarch> marcher;
-  if (method == HorizonMethod::kMarch) marcher.emplace(pyramid_, config_.march);
-  if (method == HorizonMethod::kSweep)
+  if (method == CapHorizons::kMarch) marcher.emplace(pyramid_, config_.march);
+  if (method == CapHorizons::kRadialSweep)
     radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y), reach, regions);
-  const bool sweep = method == HorizonMethod::kSweep;
+  const bool sweep = method == CapHorizons::kRadialSweep;
   tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) {
     const int y = spans[si].y;
     for (int x = spans[si].x0; x < spans[si].x1; ++x) {
@@ -366,7 +384,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       for (int j = 0; j < count && !one; ++j) {
         const glm::vec2 dir = cap_horizon_direction(cap, j, count);
         horizon[j] =
-            method == HorizonMethod::kMarch
+            method == CapHorizons::kMarch
                 ? marcher->horizon(x, y, dir, cap.plane_distance / f.cell_size)
                 : ray_horizon(f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
                               std::atan2(dir.y, dir.x), cap.plane_distance, false);

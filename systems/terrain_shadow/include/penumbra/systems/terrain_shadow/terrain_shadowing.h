@@ -47,12 +47,29 @@
 
 namespace penumbra::terrain_shadow {
 
+// The environment's horizons (TerrainShadowConfig::method).
 enum class HorizonMethod {
   kSweep,       // exact line sweep (default): horizon_sweep.h
   kMarch,       // pyramid march ([Meier13] eq. 4.4-4.14): horizon_march.h
   kBruteForce,  // every sample of every texel's ray: tests only
 };
 const char* to_string(HorizonMethod m);
+
+// kShWedges: a local light's horizons (TerrainShadowConfig::light_method). They need a distance
+// limit (the light's), which the parallel sweep lacks, so it is not among them.
+enum class LightWedgeHorizons {
+  kMarch,       // pyramid march limited to the light's distance ([Meier13] eq. 4.22-4.25)
+  kBruteForce,  // every sample of every texel's ray
+};
+const char* to_string(LightWedgeHorizons h);
+
+// kCapHorizon: the horizon towards the light (TerrainShadowConfig::cap_method).
+enum class CapHorizons {
+  kRadialSweep,  // exact, every texel at once: radial_horizon_sweep.h (default)
+  kMarch,        // pyramid march along the cap's directions: light_horizon_march.h
+  kRays,         // ray_horizon along the cap's directions: O(distance) per texel
+};
+const char* to_string(CapHorizons h);
 
 // How add_spherical_light shades (measurements: the header comment of this file).
 enum class LightShading {
@@ -67,21 +84,15 @@ struct TerrainShadowConfig {
   HorizonMethod method = HorizonMethod::kSweep;  // environment horizons
   int azimuths = 32;                             // n_phi for the environment
   LightShading light_shading = LightShading::kCapHorizon;
-  // kShWedges: horizons of local lights. They need a distance limit, which the (parallel) sweep
-  // lacks: kMarch or kBruteForce (kSweep throws, whatever light_shading is).
-  HorizonMethod light_method = HorizonMethod::kMarch;
+  LightWedgeHorizons light_method = LightWedgeHorizons::kMarch;  // kShWedges: horizons of lights
   int light_azimuths = 16;  // kShWedges: n_phi of the sphere wedge table
-  // kCapHorizon: the horizon towards the light: kSweep = RadialHorizonSweep (exact), kMarch =
-  // LightHorizonMarch (pyramid, [Meier13] eq. 4.22-4.25), kBruteForce = ray_horizon (cap_transfer.h).
-  HorizonMethod cap_method = HorizonMethod::kSweep;
+  CapHorizons cap_method = CapHorizons::kRadialSweep;  // kCapHorizon: horizon towards a light
   int cap_horizons = 3;  // kCapHorizon: horizon directions across a cap, 1..kMaxCapHorizons
-  // kCapHorizon with kSweep: a cap with rho = radius / distance >= cap_wide (near the light)
-  // whose centre's horizon passes within twice its half-angle of it takes cap_horizons
+  // kCapHorizon with kRadialSweep: a cap with rho = radius / distance >= cap_wide (near the
+  // light) whose centre's horizon passes within twice its half-angle of it takes cap_horizons
   // directions by ray_horizon (O(distance) each: the horizon may vary across a wide cap), any
-  // other the sweep's single one; kMarch and kBruteForce take cap_horizons everywhere.
-  // Measured: a light of radius 16 m behind a straight ridge, rel_rms 0.72% with no wide caps,
-  // 0.40% with 0.2 (+60% time), 0.14% with 0.1 (10x the time); other lights alike at 0.2 and
-  // 0.3 (a light sunk in the terrain: 1.49% with no wide caps, 0.26%).
+  // other the sweep's single one; kMarch and kRays take cap_horizons everywhere. Why 0.2:
+  // docs/terrain_shadow.md ("Light shading, measured").
   float cap_wide = 0.2f;
   int cap_strips = 8;       // kCapHorizon: chords of the cap integral, 1..kMaxCapStrips
   PyramidParams pyramid{};  // for kMarch
@@ -98,8 +109,7 @@ struct UpdateStats {
 template <int N>
 class TerrainShadowing {
  public:
-  // Throws std::invalid_argument for a bad configuration (kSweep as light_method, fewer than 3
-  // azimuths, ...).
+  // Throws std::invalid_argument for a bad configuration (fewer than 3 azimuths, ...).
   explicit TerrainShadowing(const TerrainShadowConfig& config = {});
 
   const TerrainShadowConfig& config() const { return config_; }
