@@ -52,10 +52,15 @@ void Schedule::add_sync_point(std::string name) {
   push(std::move(name), System::Kind::kSync);
 }
 
-void Schedule::build() {
-  // 1. Node list in registration order, with sync points inserted where deferred commands must
-  //    be applied before a later system can see their effect.
-  auto_syncs_.clear();
+namespace {
+
+using EdgeMatrix = std::vector<std::vector<char>>;
+
+// 1. The node list in registration order, with a sync point wherever deferred commands must be
+//    applied before a later system can see their effect (the sync systems go to `owned`).
+std::vector<System*> with_sync_points(const std::vector<std::unique_ptr<System>>& systems,
+                                      std::vector<std::unique_ptr<System>>& owned) {
+  owned.clear();
   std::vector<System*> list;
   ecs::TypeSet pending;
   bool pending_spawn = false;
@@ -65,11 +70,11 @@ void Schedule::build() {
     s->kind = System::Kind::kSync;
     s->access.exclusive = true;
     list.push_back(s.get());
-    auto_syncs_.push_back(std::move(s));
+    owned.push_back(std::move(s));
     pending.reset();
     pending_spawn = false;
   };
-  for (const auto& sp : systems_) {
+  for (const auto& sp : systems) {
     System& s = *sp;
     if (s.kind == System::Kind::kSync) {
       list.push_back(&s);
@@ -85,23 +90,25 @@ void Schedule::build() {
     pending_spawn = pending_spawn || s.access.spawns;
   }
   if (pending.any() || pending_spawn) add_sync("sync: end of frame");
+  std::unordered_map<std::string, std::uint32_t> index;
+  for (std::uint32_t i = 0; i < list.size(); ++i)
+    if (!index.emplace(list[i]->name, i).second)
+      throw std::invalid_argument("Schedule: two systems are named '" + list[i]->name + "'");
+  return list;
+}
 
+// 2. Direct edges: sync points against everything, conflicts (by registration, unless ordering
+//    is explicit), and the explicit after / before constraints.
+EdgeMatrix direct_edges(const std::vector<System*>& list, Schedule::Ordering ordering) {
   const std::size_t n = list.size();
   std::unordered_map<std::string, std::uint32_t> index;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (!index.emplace(list[i]->name, i).second) {
-      throw std::invalid_argument("Schedule: two systems are named '" + list[i]->name + "'");
-    }
-  }
-
-  // 2. Direct edges: sync points against everything, conflicts (registration ordering), and
-  //    explicit constraints.
-  std::vector<std::vector<char>> edge(n, std::vector<char>(n, 0));
+  for (std::uint32_t i = 0; i < n; ++i) index.emplace(list[i]->name, i);
+  EdgeMatrix edge(n, std::vector<char>(n, 0));
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::uint32_t j = i + 1; j < n; ++j) {
       const bool sync =
           list[i]->kind == System::Kind::kSync || list[j]->kind == System::Kind::kSync;
-      if (sync || (ordering_ == Ordering::kRegistration &&
+      if (sync || (ordering == Schedule::Ordering::kRegistration &&
                    list[i]->access.conflicts_with(list[j]->access))) {
         edge[i][j] = 1;
       }
@@ -119,71 +126,82 @@ void Schedule::build() {
     for (const auto& a : list[i]->after) edge[lookup(list[i]->name, a)][i] = 1;
     for (const auto& b : list[i]->before) edge[i][lookup(list[i]->name, b)] = 1;
   }
+  return edge;
+}
 
-  // 3. Topological order (Kahn, ties broken by registration position: deterministic).
-  auto topo_sort = [&]() {
-    std::vector<std::uint32_t> indeg(n, 0), order;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      for (std::uint32_t j = 0; j < n; ++j) indeg[j] += edge[i][j];
-    }
-    std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<>> ready;
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (indeg[i] == 0) ready.push(i);
-    }
-    while (!ready.empty()) {
-      const std::uint32_t u = ready.top();
-      ready.pop();
-      order.push_back(u);
-      for (std::uint32_t v = 0; v < n; ++v) {
-        if (edge[u][v] && --indeg[v] == 0) ready.push(v);
-      }
-    }
-    if (order.size() != n) {
-      std::string cycle;
-      for (std::uint32_t i = 0; i < n; ++i) {
-        if (indeg[i] > 0) cycle += (cycle.empty() ? "" : ", ") + list[i]->name;
-      }
-      throw std::invalid_argument("Schedule: ordering constraints form a cycle among: " + cycle);
-    }
-    return order;
-  };
-  auto reachability = [&](const std::vector<std::uint32_t>& order) {
-    std::vector<Bits> reach(n, Bits(n));
-    for (auto it = order.rbegin(); it != order.rend(); ++it) {
-      for (std::uint32_t v = 0; v < n; ++v) {
-        if (edge[*it][v]) {
-          reach[*it].set(v);
-          reach[*it].merge(reach[v]);
-        }
-      }
-    }
-    return reach;
-  };
-  std::vector<std::uint32_t> order = topo_sort();
-  std::vector<Bits> reach = reachability(order);
-
-  // 4. Conflicting pairs no path orders: report them, then serialise them in registration
-  //    order so the frame stays race-free.
-  conflicts_.clear();
+// 3. Topological order (Kahn, ties broken by registration position: deterministic); throws on a
+//    cycle, naming its systems.
+std::vector<std::uint32_t> topological_order(const EdgeMatrix& edge,
+                                             const std::vector<System*>& list) {
+  const std::size_t n = list.size();
+  std::vector<std::uint32_t> indeg(n, 0), order;
   for (std::uint32_t i = 0; i < n; ++i) {
-    for (std::uint32_t j = i + 1; j < n; ++j) {
+    for (std::uint32_t j = 0; j < n; ++j) indeg[j] += edge[i][j];
+  }
+  std::priority_queue<std::uint32_t, std::vector<std::uint32_t>, std::greater<>> ready;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (indeg[i] == 0) ready.push(i);
+  }
+  while (!ready.empty()) {
+    const std::uint32_t u = ready.top();
+    ready.pop();
+    order.push_back(u);
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (edge[u][v] && --indeg[v] == 0) ready.push(v);
+    }
+  }
+  if (order.size() != n) {
+    std::string cycle;
+    for (std::uint32_t i = 0; i < n; ++i) {
+      if (indeg[i] > 0) cycle += (cycle.empty() ? "" : ", ") + list[i]->name;
+    }
+    throw std::invalid_argument("Schedule: ordering constraints form a cycle among: " + cycle);
+  }
+  return order;
+}
+
+// Which nodes each node reaches, given a topological order.
+std::vector<Bits> reachability(const EdgeMatrix& edge, const std::vector<std::uint32_t>& order) {
+  const std::size_t n = edge.size();
+  std::vector<Bits> reach(n, Bits(n));
+  for (auto it = order.rbegin(); it != order.rend(); ++it) {
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (edge[*it][v]) {
+        reach[*it].set(v);
+        reach[*it].merge(reach[v]);
+      }
+    }
+  }
+  return reach;
+}
+
+// 4. Conflicting pairs that no path orders (explicit ordering): returned, and serialised in
+//    registration order so the frame stays race-free.
+std::vector<Conflict> serialise_unordered_conflicts(const std::vector<System*>& list,
+                                                    const std::vector<Bits>& reach,
+                                                    EdgeMatrix& edge) {
+  std::vector<Conflict> conflicts;
+  for (std::uint32_t i = 0; i < list.size(); ++i) {
+    for (std::uint32_t j = i + 1; j < list.size(); ++j) {
       if (list[i]->access.conflicts_with(list[j]->access) && !reach[i].test(j) &&
           !reach[j].test(i)) {
-        conflicts_.push_back({list[i]->name, list[j]->name});
+        conflicts.push_back({list[i]->name, list[j]->name});
         edge[i][j] = 1;
       }
     }
   }
-  if (!conflicts_.empty()) {
-    order = topo_sort();
-    reach = reachability(order);
-  }
+  return conflicts;
+}
 
-  // 5. Transitive reduction, then nodes in topological order.
+// 5. The transitively reduced graph as nodes in topological order.
+std::vector<Schedule::Node> reduced_nodes(const std::vector<System*>& list, const EdgeMatrix& edge,
+                                          const std::vector<std::uint32_t>& order,
+                                          const std::vector<Bits>& reach) {
+  const std::size_t n = list.size();
   std::vector<std::uint32_t> position(n);
   for (std::uint32_t p = 0; p < n; ++p) position[order[p]] = p;
-  nodes_.assign(n, Node{});
-  for (std::uint32_t p = 0; p < n; ++p) nodes_[p].system = list[order[p]];
+  std::vector<Schedule::Node> nodes(n, Schedule::Node{});
+  for (std::uint32_t p = 0; p < n; ++p) nodes[p].system = list[order[p]];
   for (std::uint32_t u = 0; u < n; ++u) {
     for (std::uint32_t v = 0; v < n; ++v) {
       if (!edge[u][v]) continue;
@@ -192,14 +210,30 @@ void Schedule::build() {
         implied = w != v && edge[u][w] && reach[w].test(v);
       }
       if (implied) continue;
-      nodes_[position[u]].successors.push_back(position[v]);
-      nodes_[position[v]].predecessors.push_back(position[u]);
+      nodes[position[u]].successors.push_back(position[v]);
+      nodes[position[v]].predecessors.push_back(position[u]);
     }
   }
-  for (Node& node : nodes_) {
+  for (Schedule::Node& node : nodes) {
     std::sort(node.successors.begin(), node.successors.end());
     std::sort(node.predecessors.begin(), node.predecessors.end());
   }
+  return nodes;
+}
+
+}  // namespace
+
+void Schedule::build() {
+  const std::vector<System*> list = with_sync_points(systems_, auto_syncs_);
+  EdgeMatrix edge = direct_edges(list, ordering_);
+  std::vector<std::uint32_t> order = topological_order(edge, list);
+  std::vector<Bits> reach = reachability(edge, order);
+  conflicts_ = serialise_unordered_conflicts(list, reach, edge);
+  if (!conflicts_.empty()) {
+    order = topological_order(edge, list);
+    reach = reachability(edge, order);
+  }
+  nodes_ = reduced_nodes(list, edge, order, reach);
   built_ = true;
 }
 
