@@ -11,22 +11,13 @@
 #include <string>
 
 #include "penumbra/assets/procedural.h"
+#include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
-assets::HeightField flat(int w, int h, float value, float cell = 1.0f) {
-  assets::HeightField f;
-  f.width = w;
-  f.height = h;
-  f.cell_size = cell;
-  f.heights.assign(static_cast<std::size_t>(w) * h, value);
-  f.source = "test field";
-  return f;
-}
-
 assets::HeightField noise(int n, std::uint32_t seed) {
-  assets::HeightField f = flat(n, n, 0.0f);
+  assets::HeightField f = test::flat_field(n, n, 0.0f);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   for (float& v : f.heights) v = u(rng);
@@ -50,7 +41,7 @@ TEST(HeightPyramid, LevelCountFollowsEq4_4) {
   for (const Case c : {Case{2, 2, 1, 2}, Case{64, 64, 4, 25}, Case{64, 64, 1, 7}, Case{65, 3, 1, 8},
                        Case{37, 100, 3, 21}, Case{128, 16, 2, 15}}) {
     HeightPyramid p;
-    p.build(flat(c.w, c.h, 1.0f, 2.0f), 1.0f, {c.ls});
+    p.build(test::flat_field(c.w, c.h, 1.0f, 2.0f), 1.0f, {c.ls});
     EXPECT_EQ(p.levels(), c.levels) << c.w << " x " << c.h << ", ls " << c.ls;
     EXPECT_EQ(p.width(), c.w);
     EXPECT_EQ(p.height(), c.h);
@@ -70,7 +61,7 @@ TEST(HeightPyramid, LevelZeroIsTheScaledInput) {
 
 TEST(HeightPyramid, ConstantFieldStaysConstantOnEveryLevel) {
   HeightPyramid p;
-  p.build(flat(40, 23, 7.0f), 3.0f, {3});
+  p.build(test::flat_field(40, 23, 7.0f), 3.0f, {3});
   for (int level = 0; level < p.levels(); ++level)
     for (int i = 0; i < 40 * 23; ++i)
       ASSERT_NEAR(p.level_data(level)[i], 21.0f, 1e-4f) << "level " << level << " sample " << i;
@@ -97,7 +88,7 @@ TEST(HeightPyramid, ImpulseSpreadsOverAboutTheLevelSpacing) {
   // Level i is filtered for spacing s = 2^(i / ls): a tent of half-width s, then a B-spline
   // with knots s apart, so a single spike spreads to at most 3 s cells and its peak drops.
   const int n = 65, c = 32;
-  assets::HeightField f = flat(n, n, 0.0f);
+  assets::HeightField f = test::flat_field(n, n, 0.0f);
   f.at(c, c) = 1.0f;
   HeightPyramid p;
   p.build(f, 1.0f, {2});
@@ -138,7 +129,7 @@ TEST(HeightPyramid, SamplingIsBilinearAndClampedToTheBorder) {
 TEST(HeightPyramid, RebuildsAtAnotherSize) {
   HeightPyramid p;
   p.build(noise(32, 1), 1.0f, {4});
-  p.build(flat(8, 5, 2.0f), 1.0f, {1});
+  p.build(test::flat_field(8, 5, 2.0f), 1.0f, {1});
   EXPECT_EQ(p.levels(), 4);
   for (int level = 0; level < p.levels(); ++level)
     EXPECT_NEAR(p.sample(level, 3.5f, 2.5f), 2.0f, 1e-5f);
@@ -151,15 +142,15 @@ TEST(HeightPyramid, RejectsBadInputNamingTheField) {
       p.build(f, scale, {ls});
       ADD_FAILURE() << "no error for ls " << ls;
     } catch (const std::invalid_argument& e) {
-      EXPECT_NE(std::string(e.what()).find("test field"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("flat"), std::string::npos) << e.what();
     }
   };
-  expect_error(flat(8, 8, 0.0f), 1.0f, 0);
-  expect_error(flat(8, 8, 0.0f), 1.0f, 17);
-  expect_error(flat(1, 8, 0.0f), 1.0f, 4);
-  expect_error(flat(8, 8, 0.0f, 0.0f), 1.0f, 4);
-  expect_error(flat(8, 8, 0.0f), std::nanf(""), 4);
-  assets::HeightField bad = flat(8, 8, 0.0f);
+  expect_error(test::flat_field(8, 8, 0.0f), 1.0f, 0);
+  expect_error(test::flat_field(8, 8, 0.0f), 1.0f, 17);
+  expect_error(test::flat_field(1, 8, 0.0f), 1.0f, 4);
+  expect_error(test::flat_field(8, 8, 0.0f, 0.0f), 1.0f, 4);
+  expect_error(test::flat_field(8, 8, 0.0f), std::nanf(""), 4);
+  assets::HeightField bad = test::flat_field(8, 8, 0.0f);
   bad.at(3, 4) = INFINITY;
   expect_error(bad, 1.0f, 4);
 }

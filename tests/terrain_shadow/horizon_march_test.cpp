@@ -13,24 +13,16 @@
 
 #include "penumbra/assets/procedural.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-assets::HeightField flat(int n, float cell = 1.0f) {
-  assets::HeightField f;
-  f.width = f.height = n;
-  f.cell_size = cell;
-  f.heights.assign(static_cast<std::size_t>(n) * n, 0.0f);
-  f.source = "test field";
-  return f;
-}
-
 // A cliff: height h from column x on, 0 before.
 assets::HeightField cliff(int n, int x0, float h) {
-  assets::HeightField f = flat(n);
+  assets::HeightField f = test::flat_field(n, n, 0.0f, 1.0f, "test field");
   for (int y = 0; y < n; ++y)
     for (int x = x0; x < n; ++x) f.at(x, y) = h;
   return f;
@@ -57,7 +49,7 @@ double mean_abs_error(const HorizonGrid& a, const HorizonGrid& b) {
 }
 
 TEST(HorizonMarch, FlatTerrain) {
-  const auto f = flat(24);
+  const auto f = test::flat_field(24, 24, 0.0f, 1.0f, "test field");
   HorizonParams p;
   p.azimuths = 8;
   const HorizonGrid clamped = march(f, p, 4, 2.0f);
@@ -203,7 +195,7 @@ TEST(HorizonMarch, WritesOnlyTheRegion) {
 }
 
 TEST(HorizonMarch, RejectsBadInputNamingTheField) {
-  const auto f = flat(16);
+  const auto f = test::flat_field(16, 16, 0.0f, 1.0f, "test field");
   HeightPyramid pyramid;
   pyramid.build(f, 1.0f, {4});
   HorizonGrid out;

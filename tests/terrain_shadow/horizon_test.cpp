@@ -1,5 +1,6 @@
 // validate_horizon_input: every horizon method's bad-input errors name the field and the reason.
 #include "penumbra/systems/terrain_shadow/horizon.h"
+#include "terrain_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -11,16 +12,6 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-assets::HeightField flat(int w, int h) {
-  assets::HeightField f;
-  f.width = w;
-  f.height = h;
-  f.cell_size = 1;
-  f.heights.assign(static_cast<std::size_t>(w) * h, 0.0f);
-  f.source = "test.pgm";
-  return f;
-}
-
 std::string error_of(const assets::HeightField& f, const HorizonParams& p, const TexelRect& r) {
   try {
     validate_horizon_input(f, p, r);
@@ -31,13 +22,13 @@ std::string error_of(const assets::HeightField& f, const HorizonParams& p, const
 }
 
 TEST(HorizonInput, AcceptsAValidField) {
-  const auto f = flat(4, 3);
+  const auto f = test::flat_field(4, 3, 0.0f, 1.0f, "test.pgm");
   EXPECT_EQ(error_of(f, {}, TexelRect::all(f)), "");
   EXPECT_EQ(TexelRect::all(f).count(), 12u);
 }
 
 TEST(HorizonInput, RejectsNonFiniteHeightsNamingTheSample) {
-  auto f = flat(4, 4);
+  auto f = test::flat_field(4, 4, 0.0f, 1.0f, "test.pgm");
   f.at(2, 3) = std::numeric_limits<float>::quiet_NaN();
   const std::string e = error_of(f, {}, TexelRect::all(f));
   EXPECT_NE(e.find("test.pgm"), std::string::npos) << e;
@@ -47,8 +38,10 @@ TEST(HorizonInput, RejectsNonFiniteHeightsNamingTheSample) {
 }
 
 TEST(HorizonInput, RejectsBadShapesAndParameters) {
-  EXPECT_NE(error_of(flat(1, 5), {}, {0, 0, 1, 5}).find("2 x 2"), std::string::npos);
-  auto f = flat(4, 4);
+  EXPECT_NE(
+      error_of(test::flat_field(1, 5, 0.0f, 1.0f, "test.pgm"), {}, {0, 0, 1, 5}).find("2 x 2"),
+      std::string::npos);
+  auto f = test::flat_field(4, 4, 0.0f, 1.0f, "test.pgm");
   f.cell_size = 0;
   EXPECT_NE(error_of(f, {}, TexelRect::all(f)).find("cell size"), std::string::npos);
   f.cell_size = 1;

@@ -33,17 +33,7 @@ using test::mountains;
 constexpr float kPi = std::numbers::pi_v<float>;
 constexpr double kPiD = std::numbers::pi;
 
-std::shared_ptr<const assets::HeightField> flat(int n, float h = 0) {
-  auto f = std::make_shared<assets::HeightField>();
-  f->width = f->height = n;
-  f->cell_size = 1;
-  f->heights.assign(static_cast<std::size_t>(n) * n, h);
-  f->source = "flat";
-  return f;
-}
-
-TerrainShadowConfig mode(LightShading shading,
-                         CapHorizons cap_method = CapHorizons::kRadialSweep) {
+TerrainShadowConfig mode(LightShading shading, CapHorizons cap_method = CapHorizons::kRadialSweep) {
   TerrainShadowConfig c;
   c.light_shading = shading;
   c.cap_method = cap_method;
@@ -150,7 +140,7 @@ TEST(LightShading, CapTransferMatchesQuadrature) {
 TEST(LightShading, UnoccludedLightsMatchTheClosedForm) {
   for (LightShading s : {LightShading::kCapHorizon, LightShading::kShWedges}) {
     TerrainShadowing<4> ts(mode(s));
-    ts.update(flat(32), 1.0f);
+    ts.update(test::shared_flat(32), 1.0f);
     std::vector<glm::vec3> e;
     const float r = 1.0f, h = 10.0f;
     ts.add_spherical_light({16.0f, 16.0f, h}, r, glm::vec3(3.0f), e);
@@ -174,7 +164,7 @@ TEST(LightShading, UnoccludedLightsMatchTheClosedForm) {
 // centre hides about half the cap (the upper half carries a little more cosine).
 TEST(LightShading, WallHidingHalfTheLightHalvesTheIrradiance) {
   const int n = 64;
-  auto f = std::make_shared<assets::HeightField>(*flat(n));
+  auto f = std::make_shared<assets::HeightField>(*test::shared_flat(n));
   const float wall = 6.0f;  // 8 cells thick, so that the pyramid march of kShWedges sees it
   for (int y = 0; y < n; ++y)
     for (int x = 40; x < 48; ++x) f->at(x, y) = wall;
@@ -185,7 +175,7 @@ TEST(LightShading, WallHidingHalfTheLightHalvesTheIrradiance) {
   const std::size_t i = static_cast<std::size_t>(receiver.y) * n + receiver.x;
   for (LightShading s : {LightShading::kCapHorizon, LightShading::kShWedges}) {
     TerrainShadowing<4> open(mode(s)), walled(mode(s));
-    open.update(flat(n), 1.0f);
+    open.update(test::shared_flat(n), 1.0f);
     walled.update(f, 1.0f);
     std::vector<glm::vec3> e_open, e_wall;
     open.add_spherical_light(centre, radius, glm::vec3(1.0f), e_open);
@@ -223,7 +213,7 @@ TEST(LightShading, LightBelowTheHorizonOrBehindTheTangentPlaneGivesNothing) {
   // On a tilted plane, a light below it (behind every tangent plane) and a light hidden by a
   // ridge.
   const int n = 48;
-  auto tilted = std::make_shared<assets::HeightField>(*flat(n));
+  auto tilted = std::make_shared<assets::HeightField>(*test::shared_flat(n));
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) tilted->at(x, y) = 0.5f * x;
   TerrainShadowing<4> ts(mode(LightShading::kCapHorizon));

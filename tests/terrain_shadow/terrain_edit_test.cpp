@@ -1,5 +1,6 @@
 // Brushes: what they change, where, and what they reject.
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
+#include "terrain_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -10,17 +11,8 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-std::shared_ptr<const assets::HeightField> flat(int n) {
-  auto f = std::make_shared<assets::HeightField>();
-  f->width = f->height = n;
-  f->cell_size = 2;
-  f->heights.assign(static_cast<std::size_t>(n) * n, 5.0f);
-  f->source = "flat";
-  return f;
-}
-
 TEST(TerrainEdit, CraterLowersOnlyInsideItsRect) {
-  const auto f = flat(32);
+  const auto f = test::shared_flat(32, 5.0f, 2.0f);
   Brush b{BrushKind::kCrater, {20.0f, 30.0f}, 6.0f, 3.0f};
   const EditResult e = apply_brush(f, b);
   EXPECT_NEAR(e.field->at(10, 15), 5.0f - 3.0f, 1e-6f);  // centre: full depth
@@ -34,7 +26,7 @@ TEST(TerrainEdit, CraterLowersOnlyInsideItsRect) {
 }
 
 TEST(TerrainEdit, RaiseAndSmooth) {
-  const auto f = flat(16);
+  const auto f = test::shared_flat(16, 5.0f, 2.0f);
   const EditResult up = apply_brush(f, {BrushKind::kRaise, {16, 16}, 5.0f, 2.0f});
   EXPECT_NEAR(up.field->at(8, 8), 7.0f, 1e-6f);
   const EditResult smooth = apply_brush(up.field, {BrushKind::kSmooth, {16, 16}, 5.0f, 1.0f});
@@ -43,7 +35,7 @@ TEST(TerrainEdit, RaiseAndSmooth) {
 }
 
 TEST(TerrainEdit, OffFieldChangesNothingAndBadBrushesThrow) {
-  const auto f = flat(8);
+  const auto f = test::shared_flat(8, 5.0f, 2.0f);
   const EditResult e = apply_brush(f, {BrushKind::kCrater, {500, 500}, 3, 1});
   EXPECT_TRUE(e.changed.empty());
   EXPECT_EQ(e.field, f);
@@ -55,7 +47,7 @@ TEST(TerrainEdit, OffFieldChangesNothingAndBadBrushesThrow) {
 
 TEST(TerrainEdit, TerrainComponentGetsNewHeightsVersionAndRect) {
   components::Terrain t;
-  t.heights = flat(16);
+  t.heights = test::shared_flat(16, 5.0f, 2.0f);
   t.origin = {-16.0f, -16.0f, 100.0f};
   t.height_scale = 2.0f;
   const auto before = t.heights;

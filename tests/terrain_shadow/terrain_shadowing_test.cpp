@@ -21,15 +21,6 @@ using test::mountains;
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-std::shared_ptr<const assets::HeightField> flat(int n, float h = 0) {
-  auto f = std::make_shared<assets::HeightField>();
-  f->width = f->height = n;
-  f->cell_size = 1;
-  f->heights.assign(static_cast<std::size_t>(n) * n, h);
-  f->source = "flat";
-  return f;
-}
-
 sh::CoeffsRgb<4> constant_sky(float radiance) {
   sh::CoeffsRgb<4> l{};
   for (auto& c : l) c[0] = radiance * std::sqrt(4 * kPi);  // y_00 = 1 / sqrt(4 pi)
@@ -66,7 +57,7 @@ TEST(TerrainShadowing, EditUpdateEqualsAFullUpdate) {
 
 TEST(TerrainShadowing, FlatGroundSeesTheWholeSky) {
   TerrainShadowing<4> ts;
-  ts.update(flat(16), 1.0f);
+  ts.update(test::shared_flat(16), 1.0f);
   std::vector<glm::vec3> e;
   ts.shade_environment(constant_sky(2.0f), e);
   // E = pi L for an unoccluded upward receiver; 4 bands of the hemisphere x cosine product
@@ -93,7 +84,7 @@ TEST(TerrainShadowing, ValleyIsDarkerThanRidgeAndEverythingIsFinite) {
 
 TEST(TerrainShadowing, LightFacingAFlatReceiverMatchesTheClosedForm) {
   TerrainShadowing<4> ts;
-  ts.update(flat(32), 1.0f);
+  ts.update(test::shared_flat(32), 1.0f);
   std::vector<glm::vec3> e;
   const float r = 1.0f, d = 10.0f;
   ts.add_spherical_light({16.0f, 16.0f, d}, r, glm::vec3(3.0f), e);
@@ -118,7 +109,7 @@ TEST(TerrainShadowing, RejectsInvalidLights) {
 }
 
 TEST(TerrainShadowing, RejectsBadInputNamingIt) {
-  auto f = std::make_shared<assets::HeightField>(*flat(8));
+  auto f = std::make_shared<assets::HeightField>(*test::shared_flat(8));
   f->at(3, 4) = std::numeric_limits<float>::quiet_NaN();
   f->source = "broken.pgm";
   TerrainShadowing<4> ts;
@@ -134,7 +125,7 @@ TEST(TerrainShadowing, RejectsBadInputNamingIt) {
 }
 
 TEST(TerrainShadowing, SpikesAndExtremeSlopesStayFinite) {
-  auto f = std::make_shared<assets::HeightField>(*flat(24));
+  auto f = std::make_shared<assets::HeightField>(*test::shared_flat(24));
   f->at(12, 12) = 1e5f;  // a single-texel spike, near-vertical slopes
   TerrainShadowing<4> ts;
   ts.update(f, 1.0f);

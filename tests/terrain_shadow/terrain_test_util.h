@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "penumbra/assets/height_field.h"
@@ -13,6 +14,24 @@
 #include "penumbra/sh/basis.h"
 
 namespace penumbra::terrain_shadow::test {
+
+// A flat field of w x h samples at height `value`, `cell` metres apart, named `source` (what
+// error messages name).
+inline assets::HeightField flat_field(int w, int h, float value = 0.0f, float cell = 1.0f,
+                                      std::string source = "flat") {
+  assets::HeightField f;
+  f.width = w;
+  f.height = h;
+  f.cell_size = cell;
+  f.heights.assign(static_cast<std::size_t>(w) * h, value);
+  f.source = std::move(source);
+  return f;
+}
+// The same, n x n, shared (what TerrainShadowing::update takes).
+inline std::shared_ptr<const assets::HeightField> shared_flat(int n, float value = 0.0f,
+                                                              float cell = 1.0f) {
+  return std::make_shared<assets::HeightField>(flat_field(n, n, value, cell));
+}
 
 // fBm mountains on an n x n grid, 2 m cells (slopes up to about 40 degrees).
 inline std::shared_ptr<const assets::HeightField> mountains(int n, std::uint64_t seed = 4) {
