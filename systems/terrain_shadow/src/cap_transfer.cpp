@@ -17,8 +17,8 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
-constexpr float kHalfPi = kPi / 2;
+using detail::kHalfPi;
+using detail::kPi;
 
 // tau_j of cap_horizon_direction for count 1..kMaxCapHorizons, ascending.
 struct HorizonNodes {

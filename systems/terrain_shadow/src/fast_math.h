@@ -8,12 +8,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <numbers>
 
 #ifdef __AVX2__
 #include <immintrin.h>
 #endif
 
 namespace penumbra::terrain_shadow::detail {
+
+// The system's angle constants, in one place (float: the kernels' precision).
+inline constexpr float kPi = std::numbers::pi_v<float>;
+inline constexpr float kHalfPi = kPi / 2;
+inline constexpr float kTwoPi = 2 * kPi;
 
 inline float fast_atan(float x) {
   const float a = std::fabs(x);
@@ -67,7 +73,7 @@ inline float fast_asin(float x) {
   return fast_atan(x / std::sqrt(std::max((1 - x) * (1 + x), 0.0f)));
 }
 inline float fast_acos(float x) {
-  return 1.57079632679f - fast_asin(x);
+  return kHalfPi - fast_asin(x);
 }
 
 // sin on [-pi/2, pi/2]: odd minimax-style polynomial (Taylor to x^11), error < 6e-8.

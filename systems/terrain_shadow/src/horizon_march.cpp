@@ -25,7 +25,7 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
+using detail::kHalfPi;
 
 // c ? x : y through bit masks. GCC (with the default -ftrapping-math) will not if-convert a
 // float select whose operands it would have to compute speculatively, which keeps such loops
@@ -46,7 +46,7 @@ struct SampleOffset {
 // Everything that depends on the pyramid and the parameters but not on the texel.
 struct Plan {
   int n = 0, n_phi = 0;
-  std::vector<double> d;          // d_i in cells: d_0 = 1, d_{i+1} = d_i + sr^i ([Meier13] sec. 4.2.1)
+  std::vector<double> d;  // d_i in cells: d_0 = 1, d_{i+1} = d_i + sr^i ([Meier13] sec. 4.2.1)
   std::vector<float> inv_metres;  // 1 / (d_i * cell_size)
   std::vector<int> level;         // pyramid level read by sample i (eq. 4.14, see below)
   std::vector<SampleOffset> at;   // [k * n + i]

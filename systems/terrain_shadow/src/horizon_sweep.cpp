@@ -20,7 +20,7 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
+using detail::kHalfPi;
 
 float to_angle(float slope, bool any, bool clamp) {
   if (!any) return clamp ? 0.0f : -kHalfPi;

@@ -14,8 +14,8 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
-constexpr float kHalfPi = kPi / 2;
+using detail::kHalfPi;
+using detail::kPi;
 
 // Uniform cubic B-spline at a knot and at the mid-point after it ([Meier13] eq. 4.8-4.12,
 // sec. 5.2).

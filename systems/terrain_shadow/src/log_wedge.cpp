@@ -20,13 +20,14 @@
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
 
+#include "fast_math.h"
 #include "lanes.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
+using detail::kHalfPi;
 
 using detail::Lanes;  // lanes.h
 using detail::load;

@@ -15,7 +15,7 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kHalfPi = std::numbers::pi_v<float> / 2;
+using detail::kHalfPi;
 
 }  // namespace
 

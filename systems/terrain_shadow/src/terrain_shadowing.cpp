@@ -13,8 +13,8 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
-#include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/cap_transfer.h"
+#include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/light_horizon_march.h"
 #include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/transfer.h"
