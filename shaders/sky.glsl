@@ -25,28 +25,13 @@ layout(set = 0, binding = 1) uniform sampler2D environment;
 layout(location = 0) in vec3 v_ray;
 layout(location = 0) out vec4 out_color;
 const float kPi = 3.14159265358979;
-
-// atan(y, x) in [-pi, pi] to within 1.2e-5 rad (Abramowitz & Stegun 4.4.47 on [0, 1] and the
-// octant symmetries), under a tenth of an environment-map texel at 4096 texels around; cheaper
-// on lavapipe than the exact atan and acos.
-float fast_atan2(float y, float x) {
-  float ax = abs(x), ay = abs(y);
-  float a = min(ax, ay) / max(max(ax, ay), 1e-30);
-  float s = a * a;
-  float r =
-      a * (0.9998660 + s * (-0.3302995 + s * (0.1801410 + s * (-0.0851330 + s * 0.0208351))));
-  if (ay > ax) r = 0.5 * kPi - r;
-  if (x < 0.0) r = kPi - r;
-  return y < 0.0 ? -r : r;
-}
-
 void main() {
   vec3 dir = normalize(v_ray);
   vec3 c;
   if (kVariant == 1) {
-    float u = (fast_atan2(dir.y, dir.x) - camera.params.w) / (2.0 * kPi);
+    float u = (atan(dir.y, dir.x) - camera.params.w) / (2.0 * kPi);
     u -= floor(u);
-    float v = fast_atan2(length(dir.xy), dir.z) / kPi;  // acos(dir.z) / pi
+    float v = acos(clamp(dir.z, -1.0, 1.0)) / kPi;
     c = textureLod(environment, vec2(u, v), 0.0).rgb * camera.params.z;
   } else {
     c = procedural_sky(dir, true);

@@ -1,9 +1,7 @@
 #include "penumbra/render/terrain_pass.h"
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <iterator>
 
 #if defined(__F16C__)
 #include <immintrin.h>

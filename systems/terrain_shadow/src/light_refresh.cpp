@@ -236,17 +236,4 @@ void LightRefresh::commit(const std::vector<glm::vec3>* irradiance) {
     if (t.shaded_with != kNever) t.shaded_with = remap[t.shaded_with];
 }
 
-float LightRefresh::reach(float foot_x, float foot_y) const {
-  float r = 0;
-  for (const TexelRect& rect : rects_) {
-    const std::size_t i = static_cast<std::size_t>(rect.y0 / config_.tile) * tiles_x_ +
-                          static_cast<std::size_t>(rect.x0 / config_.tile);
-    const Tile& t = tiles_[i];
-    const float dx = std::max(std::abs(t.lo.x - foot_x), std::abs(t.hi.x - foot_x));
-    const float dy = std::max(std::abs(t.lo.y - foot_y), std::abs(t.hi.y - foot_y));
-    r = std::max(r, std::sqrt(dx * dx + dy * dy));
-  }
-  return r;
-}
-
 }  // namespace penumbra::terrain_shadow

@@ -94,8 +94,6 @@ class LightRefresh {
   // Records that the tiles of the last plan() were shaded with those lights; `irradiance` is
   // the re-shaded sum (for the observed change, after keep_previous).
   void commit(const std::vector<glm::vec3>* irradiance = nullptr);
-  // The largest plane distance (metres) from `foot` to a texel of the last plan's tiles.
-  float reach(float foot_x, float foot_y) const;
 
   const LightRefreshStats& stats() const { return stats_; }
 
