@@ -9,6 +9,10 @@
 //   frame_latency  render() + wait for that frame
 //   terrain_only / meshes_only   one scene pass enabled (plus sky-less clear and tonemap)
 //   empty          clear + tonemap + output: a full-screen pass of the cheapest shader here
+//   bintree_build / bintree_triangulate   the terrain level of detail on the CPU
+//                  (render/terrain_bintree.h) for a 257x257 field: the exact errors, redone on
+//                  the render thread whenever the heights change, and the per-frame refinement
+//                  from a demo-like view at 3 pixels; reported against the frame time
 //
 // Floor: pixels shaded / fill rate. Every pixel is shaded at least once by the scene (terrain,
 // mesh or sky) and once by the tonemap, and the fill rate is measured on the tonemap pass of
@@ -30,6 +34,7 @@
 #include "bench_report.h"
 #include "penumbra/render/offscreen_target.h"
 #include "penumbra/render/renderer.h"
+#include "penumbra/render/terrain_bintree.h"
 
 namespace {
 namespace pb = penumbra::bench;
@@ -156,6 +161,49 @@ void BM_Render(benchmark::State& state, Variant v) {
   state.SetLabel(b.device.name());
 }
 
+// 257 x 257 samples (2^k + 1, as the demo's crop), the frame benchmark's hills at 2 m cells.
+assets::HeightField bintree_field() {
+  assets::HeightField f;
+  f.width = f.height = 257;
+  f.cell_size = 2.0f;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x)
+      f.heights.push_back(height_at(static_cast<float>(x), static_cast<float>(y)));
+  return f;
+}
+
+void BM_BintreeBuild(benchmark::State& state) {
+  const assets::HeightField f = bintree_field();
+  render::TerrainBintree tree;
+  for (auto _ : state) {
+    tree.build(f);
+    benchmark::DoNotOptimize(tree.size());
+  }
+}
+
+void BM_BintreeTriangulate(benchmark::State& state) {
+  const assets::HeightField f = bintree_field();
+  render::TerrainBintree tree;
+  tree.build(f);
+  // Seen from beside and above, as the demo's orbit sees its terrain.
+  render::TerrainBintree::View view;
+  const glm::vec3 centre(256.0f, 256.0f, 0.0f);
+  view.eye = centre + glm::vec3(0.0f, -0.85f * 512.0f, 0.45f * 512.0f);
+  view.view_proj = glm::perspective(0.8f, 960.0f / 540.0f, 1.0f, 1e4f) *
+                   glm::lookAt(view.eye, centre, glm::vec3(0, 0, 1));
+  view.view_proj[1][1] *= -1.0f;  // Vulkan clip y
+  view.focal_px = 0.5f * 540.0f / std::tan(0.4f);
+  view.max_pixels = 3.0f;
+  std::vector<std::uint32_t> indices;
+  std::size_t triangles = 0;
+  for (auto _ : state) {
+    indices.clear();
+    triangles = tree.triangulate(view, indices);
+    benchmark::DoNotOptimize(indices.data());
+  }
+  state.counters["triangles"] = static_cast<double>(triangles);
+}
+
 const std::map<Variant, const char*> kNames = {{Variant::kFrame, "frame"},
                                                {Variant::kLod0, "frame_lod0"},
                                                {Variant::kLatency, "frame_latency"},
@@ -223,6 +271,16 @@ pb::Summary summarize(const pb::Results& r) {
   s.add_vs_baseline("meshes only (+ clear, tonemap)", "ms", ms("meshes_only"), frame,
                     pb::Goal::none());
   s.add_vs_baseline("empty frame (clear + tonemap)", "ms", ms("empty"), frame, pb::Goal::none());
+  s.add_vs_baseline("terrain bintree build 257^2 (per height change)", "ms", ms("bintree_build"),
+                    frame, pb::Goal::none(), std::nullopt,
+                    "render thread, once per change of the heights; ratio = frame / build");
+  {
+    char note[128];
+    std::snprintf(note, sizeof note, "%.0f triangles at 3 px; ratio = frame / triangulate",
+                  r.counter("bintree_triangulate", "triangles").value_or(0));
+    s.add_vs_baseline("terrain bintree triangulate (per frame)", "ms", ms("bintree_triangulate"),
+                      frame, pb::Goal::none(), std::nullopt, note);
+  }
   {
     pb::Row row;
     row.name = "fill rate (tonemap, empty frame)";
@@ -242,6 +300,9 @@ int main(int argc, char** argv) {
         ->UseRealTime()
         ->MinTime(kMinTime)
         ->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bintree_build", BM_BintreeBuild)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("bintree_triangulate", BM_BintreeTriangulate)
+      ->Unit(benchmark::kMillisecond);
   const int status = pb::run_main(argc, argv, "render", summarize);
   g_bench.reset();
   return status;

@@ -22,7 +22,7 @@
 // along the border; 2^k + 1 samples a side, as Unity's heightmaps have, avoid it).
 //
 // Cost: build() O(n log n) in the virtual samples (the exact errors), 8 bytes per virtual
-// sample; triangulate() about 2 nodes per triangle drawn (times: docs/play.md).
+// sample; triangulate() about 2 nodes per triangle drawn (times: the render benchmark).
 // Threading: build() and triangulate() may not overlap; triangulate() is const.
 #pragma once
 
