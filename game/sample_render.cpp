@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/frame_time.h"
@@ -34,7 +34,7 @@ float terrain_height(float x, float y) {
 
 // Sun and sky on the CPU: albedo-free lighting per height sample (what terrain_shadow will
 // replace with horizon-based visibility).
-std::shared_ptr<std::vector<glm::vec3>> light_terrain(const assets::HeightField& f,
+std::shared_ptr<std::vector<glm::vec3>> light_terrain(const data::HeightField& f,
                                                       const render::Sky& sky) {
   auto out = std::make_shared<std::vector<glm::vec3>>(f.heights.size());
   const glm::vec3 sun = glm::normalize(sky.sun_direction);
@@ -60,7 +60,7 @@ void populate_sample_scene(ecs::World& world, const SampleSceneConfig& config) {
   settings.view.point_size = 1.0f;
   settings.view.exposure_ev = 0.0f;
 
-  auto field = std::make_shared<assets::HeightField>();
+  auto field = std::make_shared<data::HeightField>();
   field->width = field->height = config.terrain_size;
   field->cell_size = 1.0f;
   field->source = "sample world terrain";

@@ -8,9 +8,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "penumbra/assets/environment_map.h"
+#include "penumbra/data/environment_map.h"
 #include "penumbra/assets/exr.h"
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/assets/heightmap.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
@@ -47,7 +47,7 @@ std::filesystem::path data_dir(const TerrainDemoConfig& c) {
 }
 
 float terrain_height_at(const Terrain& t, glm::vec2 world_xy) {
-  const assets::HeightField& f = *t.heights;
+  const data::HeightField& f = *t.heights;
   const glm::vec2 q = (world_xy - glm::vec2(t.origin)) / f.cell_size;
   const int x = std::clamp(static_cast<int>(std::lround(q.x)), 0, f.width - 1);
   const int y = std::clamp(static_cast<int>(std::lround(q.y)), 0, f.height - 1);
@@ -113,7 +113,7 @@ bool pick_texel(const Camera& c, const HorizonProbe& probe, const Terrain& t, in
   const float th = std::tan(0.5f * c.vertical_fov);
   const glm::vec3 dir =
       glm::normalize(fwd + right * (probe.ndc.x * th * probe.aspect) - up * (probe.ndc.y * th));
-  const assets::HeightField& f = *t.heights;
+  const data::HeightField& f = *t.heights;
   const float step = 0.5f * f.cell_size;
   for (float s = 0; s < c.far_plane; s += step) {
     const glm::vec3 p = c.position + s * dir;
@@ -141,7 +141,7 @@ void debug_view(ecs::World& w) {
     const Terrain* t = &terrain;
     if (!probe || !probe->enabled || !t->heights || !h.horizons || !h.normals) return;
     const terrain_shadow::HorizonGrid& g = *h.horizons;
-    const assets::HeightField& f = *t->heights;
+    const data::HeightField& f = *t->heights;
     if (g.width != f.width || g.height != f.height || g.azimuths == 0) return;  // not yet swept
     int x, y;
     if (!pick_texel(w.resource<Camera>(), *probe, *t, x, y)) return;
@@ -170,12 +170,12 @@ void debug_view(ecs::World& w) {
 
 void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   const std::filesystem::path dir = data_dir(config);
-  const assets::HeightField dem =
+  const data::HeightField dem =
       assets::load_height_field(dir / "terrain" / "jacksboro_fault_dem.pgm");
   const int n = std::min({config.terrain_size, dem.width, dem.height});
-  auto field = std::make_shared<assets::HeightField>(
-      assets::crop(dem, (dem.width - n) / 2, (dem.height - n) / 2, n, n));
-  auto map = std::make_shared<assets::EnvironmentMap>(
+  auto field = std::make_shared<data::HeightField>(
+      data::crop(dem, (dem.width - n) / 2, (dem.height - n) / 2, n, n));
+  auto map = std::make_shared<data::EnvironmentMap>(
       assets::load_environment_map(dir / "hdri" / config.environment));
 
   systems::emplace_render_resources(world);

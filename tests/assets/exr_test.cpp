@@ -56,7 +56,7 @@ TEST(Exr, AllSharedEnvironmentMapsLoad) {
   for (const char* name : kMaps) {
     const auto path = test::shared_data() / "hdri" / (std::string(name) + ".exr");
     const auto t0 = std::chrono::steady_clock::now();
-    EnvironmentMap m;
+    data::EnvironmentMap m;
     ASSERT_NO_THROW(m = load_environment_map(path)) << path;  // a missing file fails here
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -82,7 +82,7 @@ TEST(Exr, RowZeroIsTheTopRowAndDataWindowOffsetIsIgnored) {
   for (int x = 0; x < w; ++x) r[x] = 10.0f + x;  // first (top) row
   const auto path = dir.file("top.exr");
   write_exr(path, w, h, {{"R", r}, {"G", g}, {"B", b}}, Imf::HALF, -5, 7);
-  const EnvironmentMap m = load_environment_map(path);
+  const data::EnvironmentMap m = load_environment_map(path);
   ASSERT_EQ(m.width, w);
   ASSERT_EQ(m.height, h);
   EXPECT_FLOAT_EQ(m.texel(2, 0)[0], 12.0f);
@@ -96,7 +96,7 @@ TEST(Exr, LuminanceOnlyMapIsGrey) {
   TempDir dir;
   const auto path = dir.file("y.exr");
   write_exr(path, 2, 2, {{"Y", {1, 2, 3, 4}}});
-  const EnvironmentMap m = load_environment_map(path);
+  const data::EnvironmentMap m = load_environment_map(path);
   EXPECT_FLOAT_EQ(m.texel(1, 1)[0], 4.0f);
   EXPECT_FLOAT_EQ(m.texel(1, 1)[1], 4.0f);
   EXPECT_FLOAT_EQ(m.texel(1, 1)[2], 4.0f);
@@ -112,7 +112,7 @@ TEST(Exr, NegativeLobesAreClampedKeepingEachBlocksEnergy) {
   r[2 * w + 12] = -3.0f;  // block (1, 0): all others 1, total still positive
   const auto path = dir.file("ring.exr");
   write_exr(path, w, h, {{"R", r}, {"G", g}, {"B", b}});
-  const EnvironmentMap m = load_environment_map(path);
+  const data::EnvironmentMap m = load_environment_map(path);
   EXPECT_EQ(m.clamped_values, 3u);
   auto block_sum = [&](const std::vector<float>& v, bool from_map, int bx) {
     double s = 0;
@@ -172,7 +172,7 @@ TEST(Exr, SingleChannelHeightMapWithSidecar) {
   dir.write("terrain.json",
             R"({"width": 3, "height": 2, "cell_size_m": 2.5, "min_elevation": 100})");
   EXPECT_EQ(exr_channel_count(path), 1);
-  const HeightField f = load_height_field_exr(path);
+  const data::HeightField f = load_height_field_exr(path);
   EXPECT_EQ(f.width, 3);
   EXPECT_EQ(f.height, 2);
   EXPECT_FLOAT_EQ(f.cell_size, 2.5f);

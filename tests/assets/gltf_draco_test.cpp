@@ -42,7 +42,7 @@ TEST(GltfDraco, SharedModelsDecode) {
         "  %-10s %.2f ms\n", e.file,
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     ASSERT_EQ(m.meshes.size(), 1u);
-    const MeshData& mesh = *m.meshes[0];
+    const data::MeshData& mesh = *m.meshes[0];
     EXPECT_EQ(mesh.positions.size(), e.vertices) << e.file;
     EXPECT_EQ(mesh.indices.size(), 3 * e.triangles) << e.file;
     ASSERT_EQ(mesh.normals.size(), mesh.positions.size());

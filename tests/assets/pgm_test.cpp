@@ -29,7 +29,7 @@ PgmImage parse(const std::string& s) {
 TEST(Pgm, SharedDemLoadsWithSidecar) {
   const auto path = test::shared_data() / "terrain" / "jacksboro_fault_dem.pgm";
   const auto t0 = std::chrono::steady_clock::now();
-  const HeightField f = load_height_field(path);
+  const data::HeightField f = load_height_field(path);
   std::printf(
       "  DEM loaded in %.2f ms\n",
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
@@ -94,7 +94,7 @@ TEST(Pgm, FilesAndSidecars) {
                     "unknown height map type");
 
   // No sidecar: 1 m cells, heights are the samples.
-  const HeightField plain = load_height_field(dir.write("plain.pgm", pgm16(2, 2, {0, 1, 2, 70})));
+  const data::HeightField plain = load_height_field(dir.write("plain.pgm", pgm16(2, 2, {0, 1, 2, 70})));
   EXPECT_FLOAT_EQ(plain.cell_size, 1.0f);
   EXPECT_FLOAT_EQ(plain.at(1, 1), 70.0f);
 
@@ -102,7 +102,7 @@ TEST(Pgm, FilesAndSidecars) {
   dir.write(
       "scaled.json",
       R"({"min_elevation": -10, "elevation_scale": 0.5, "cell_size_m": 3, "max_elevation": -8.5})");
-  const HeightField scaled = load_height_field(dir.file("scaled.pgm"));
+  const data::HeightField scaled = load_height_field(dir.file("scaled.pgm"));
   EXPECT_FLOAT_EQ(scaled.at(1, 1), -8.5f);
   EXPECT_FLOAT_EQ(scaled.cell_size, 3.0f);
 
@@ -136,7 +136,7 @@ TEST(Pgm, AnisotropicCellsAreResampledLinearly) {
   s.cell_size_x = 1.0;
   s.cell_size_y = 2.0;
   const std::vector<float> v = {0, 10, 4, 14, 8, 18};  // 2 wide, 3 rows 2 m apart
-  const HeightField f = make_height_field(2, 3, v, s, "mem");
+  const data::HeightField f = make_height_field(2, 3, v, s, "mem");
   ASSERT_EQ(f.width, 2);
   ASSERT_EQ(f.height, 5);  // rows at 0, 1, 2, 3, 4 m
   EXPECT_FLOAT_EQ(f.cell_size, 1.0f);
@@ -145,7 +145,7 @@ TEST(Pgm, AnisotropicCellsAreResampledLinearly) {
   EXPECT_FLOAT_EQ(f.at(1, 4), 18.0f);
   s.cell_size_x = 3.0;
   s.cell_size_y = 1.0;  // x coarser: columns resampled
-  const HeightField g = make_height_field(2, 3, v, s, "mem");
+  const data::HeightField g = make_height_field(2, 3, v, s, "mem");
   ASSERT_EQ(g.width, 4);
   EXPECT_FLOAT_EQ(g.at(1, 0), 10.0f / 3.0f);
   s.cell_size_y = 1e-300;

@@ -12,16 +12,16 @@ namespace {
 
 const TerrainGrid kGrid{257, 256.0f};  // 1 m cells: grid points at whole metres
 
-float max_height(const HeightField& f) {
+float max_height(const data::HeightField& f) {
   return *std::max_element(f.heights.begin(), f.heights.end());
 }
-float min_height(const HeightField& f) {
+float min_height(const data::HeightField& f) {
   return *std::min_element(f.heights.begin(), f.heights.end());
 }
 
 TEST(Procedural, GridCoversTheExtentAtAnyResolution) {
   for (int res : {2, 17, 256, 300}) {
-    const HeightField f = sine_grating({res, 100.0f});
+    const data::HeightField f = sine_grating({res, 100.0f});
     EXPECT_EQ(f.width, res);
     EXPECT_EQ(f.height, res);
     EXPECT_FLOAT_EQ(f.cell_size * static_cast<float>(res - 1), 100.0f);
@@ -35,7 +35,7 @@ TEST(Procedural, GridCoversTheExtentAtAnyResolution) {
 
 TEST(Procedural, ConesApexesOnARing) {
   ConesParams p;
-  const HeightField f = cones(kGrid, p);
+  const data::HeightField f = cones(kGrid, p);
   // Cone i: centre 128 m + ring_radius * (cos, sin)(2 pi i / count), apex slope * r_i.
   for (int i = 0; i < p.count; ++i) {
     const float a =
@@ -58,20 +58,20 @@ TEST(Procedural, ConesApexesOnARing) {
 
 TEST(Procedural, SineGratingPeriodAndRange) {
   SineGratingParams p;  // period 32 m along x
-  const HeightField f = sine_grating(kGrid, p);
+  const data::HeightField f = sine_grating(kGrid, p);
   for (int x = 0; x + 32 < f.width; ++x) ASSERT_NEAR(f.at(x, 5), f.at(x + 32, 5), 1e-4f) << x;
   for (int y = 0; y < f.height; ++y) ASSERT_FLOAT_EQ(f.at(7, y), f.at(7, 0));  // ridges along y
   EXPECT_NEAR(f.at(8, 0), p.amplitude, 1e-5f);  // sin peaks at a quarter period
   EXPECT_NEAR(f.at(24, 0), 0.0f, 1e-5f);
   EXPECT_NEAR(f.at(16, 0), p.amplitude / 2, 1e-5f);
   p.angle = std::numbers::pi_v<float> / 2;  // now along y
-  const HeightField g = sine_grating(kGrid, p);
+  const data::HeightField g = sine_grating(kGrid, p);
   EXPECT_NEAR(g.at(3, 8), p.amplitude, 1e-5f);
 }
 
 TEST(Procedural, EggTrayBumpsAndCups) {
   EggTrayParams p;
-  const HeightField f = egg_tray(kGrid, p);
+  const data::HeightField f = egg_tray(kGrid, p);
   EXPECT_NEAR(f.at(8, 8), p.amplitude, 1e-5f);  // sin * sin = 1
   EXPECT_NEAR(f.at(8, 24), 0.0f, 1e-5f);        // = -1: a cup
   EXPECT_NEAR(f.at(0, 13), p.amplitude / 2, 1e-5f);
@@ -82,7 +82,7 @@ TEST(Procedural, EggTrayBumpsAndCups) {
 
 TEST(Procedural, CityBlocksStreetsAndStoreys) {
   CityParams p;
-  const HeightField f = city_blocks(kGrid, p);
+  const data::HeightField f = city_blocks(kGrid, p);
   // Streets: the first 6 m (half a street) and every block pitch + [42, 54) m.
   for (int y = 0; y < f.height; ++y) {
     ASSERT_EQ(f.at(3, y), 0.0f);
@@ -106,16 +106,16 @@ TEST(Procedural, CityBlocksStreetsAndStoreys) {
 
 TEST(Procedural, MountainsAreDeterministicAndResolutionIndependent) {
   MountainParams p;
-  const HeightField a = fbm_mountains(kGrid, p), b = fbm_mountains(kGrid, p);
+  const data::HeightField a = fbm_mountains(kGrid, p), b = fbm_mountains(kGrid, p);
   EXPECT_EQ(a.heights, b.heights);  // bit-identical for a seed
   for (float h : a.heights) ASSERT_TRUE(h >= 0 && h <= p.height);
   EXPECT_GT(max_height(a) - min_height(a), p.height / 4);  // actually mountainous
   // Half the resolution samples the same function at every other point.
-  const HeightField half = fbm_mountains({129, 256.0f}, p);
+  const data::HeightField half = fbm_mountains({129, 256.0f}, p);
   for (int y = 0; y < half.height; ++y)
     for (int x = 0; x < half.width; ++x) ASSERT_EQ(half.at(x, y), a.at(2 * x, 2 * y));
   p.seed = 99;
-  const HeightField c = fbm_mountains(kGrid, p);
+  const data::HeightField c = fbm_mountains(kGrid, p);
   EXPECT_NE(c.heights, a.heights);
   EXPECT_EQ(procedural_scene("mountains", kGrid, 99).heights, c.heights);
   EXPECT_EQ(procedural_scene("city", kGrid, 1).heights, city_blocks(kGrid).heights);

@@ -38,7 +38,7 @@
 namespace {
 
 namespace ref = penumbra::reference;
-namespace assets = penumbra::assets;
+namespace data = penumbra::data;
 namespace pb = penumbra::bench;
 
 constexpr int kSize = 256;
@@ -61,8 +61,8 @@ float value_noise(float x, float y, std::uint32_t seed) {
   return (a + (b - a) * sx) * (1 - sy) + (c + (d - c) * sx) * sy;
 }
 
-assets::HeightField fbm_terrain(int n) {
-  assets::HeightField f;
+data::HeightField fbm_terrain(int n) {
+  data::HeightField f;
   f.width = f.height = n;
   f.cell_size = 1.0f;
   f.source = "fBm 6 octaves";
@@ -79,8 +79,8 @@ assets::HeightField fbm_terrain(int n) {
   return f;
 }
 
-assets::EnvironmentMap clear_sky(int w, int h) {
-  assets::EnvironmentMap m;
+data::EnvironmentMap clear_sky(int w, int h) {
+  data::EnvironmentMap m;
   m.width = w;
   m.height = h;
   m.source = "procedural clear sky";

@@ -39,7 +39,7 @@
 namespace {
 namespace pb = penumbra::bench;
 namespace render = penumbra::render;
-namespace assets = penumbra::assets;
+namespace data = penumbra::data;
 
 constexpr std::uint32_t kWidth = 960, kHeight = 540;
 constexpr int kTerrain = 256;
@@ -50,8 +50,8 @@ float height_at(float x, float y) {
   return 8.0f * std::sin(0.05f * x) * std::cos(0.04f * y) + 2.0f * std::sin(0.13f * x + 0.09f * y);
 }
 
-std::shared_ptr<assets::MeshData> uv_sphere(int stacks, int slices, float radius) {
-  auto m = std::make_shared<assets::MeshData>();
+std::shared_ptr<data::MeshData> uv_sphere(int stacks, int slices, float radius) {
+  auto m = std::make_shared<data::MeshData>();
   for (int i = 0; i <= stacks; ++i) {
     const float theta = 3.14159265f * static_cast<float>(i) / static_cast<float>(stacks);
     for (int j = 0; j <= slices; ++j) {
@@ -73,7 +73,7 @@ std::shared_ptr<assets::MeshData> uv_sphere(int stacks, int slices, float radius
 
 render::RenderPacket bench_scene() {
   render::RenderPacket p;
-  auto field = std::make_shared<assets::HeightField>();
+  auto field = std::make_shared<data::HeightField>();
   field->width = field->height = kTerrain;
   field->cell_size = 1.0f;
   const float half = 0.5f * (kTerrain - 1);
@@ -162,8 +162,8 @@ void BM_Render(benchmark::State& state, Variant v) {
 }
 
 // 257 x 257 samples (2^k + 1, as the demo's crop), the frame benchmark's hills at 2 m cells.
-assets::HeightField bintree_field() {
-  assets::HeightField f;
+data::HeightField bintree_field() {
+  data::HeightField f;
   f.width = f.height = 257;
   f.cell_size = 2.0f;
   for (int y = 0; y < f.height; ++y)
@@ -173,7 +173,7 @@ assets::HeightField bintree_field() {
 }
 
 void BM_BintreeBuild(benchmark::State& state) {
-  const assets::HeightField f = bintree_field();
+  const data::HeightField f = bintree_field();
   render::TerrainBintree tree;
   for (auto _ : state) {
     tree.build(f);
@@ -182,7 +182,7 @@ void BM_BintreeBuild(benchmark::State& state) {
 }
 
 void BM_BintreeTriangulate(benchmark::State& state) {
-  const assets::HeightField f = bintree_field();
+  const data::HeightField f = bintree_field();
   render::TerrainBintree tree;
   tree.build(f);
   // Seen from beside and above, as the demo's orbit sees its terrain.

@@ -76,8 +76,6 @@
 #include <glm/geometric.hpp>
 
 #include "bench_report.h"
-#include "penumbra/assets/exr.h"
-#include "penumbra/assets/procedural.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/projection.h"
 #include "penumbra/sh/rotation.h"
@@ -94,7 +92,7 @@ namespace {
 
 namespace pb = penumbra::bench;
 namespace ts = penumbra::terrain_shadow;
-namespace assets = penumbra::assets;
+namespace data = penumbra::data;
 namespace sh = penumbra::sh;
 namespace tbr = penumbra::bench::terrain;
 
@@ -151,8 +149,8 @@ void set_work(benchmark::State& state, double ops, double bytes) {
 // ---------------------------------------------------------------------------------------------
 // Scenes and environment
 
-std::shared_ptr<const assets::HeightField> scene_field(int size) {
-  static std::map<int, std::shared_ptr<const assets::HeightField>> cache;
+std::shared_ptr<const data::HeightField> scene_field(int size) {
+  static std::map<int, std::shared_ptr<const data::HeightField>> cache;
   auto& f = cache[size];
   if (!f) f = tbr::load_scene(tbr::kSceneName, size);
   return f;
@@ -456,7 +454,7 @@ struct LightDesc {
 };
 
 // Lights `above` metres over the terrain at the given plane positions (fractions of the field).
-std::vector<LightDesc> bench_lights(const assets::HeightField& f, int count) {
+std::vector<LightDesc> bench_lights(const data::HeightField& f, int count) {
   const glm::vec2 spots[4] = {{0.5f, 0.5f}, {0.25f, 0.25f}, {0.75f, 0.3f}, {0.3f, 0.75f}};
   std::vector<LightDesc> out;
   for (int i = 0; i < count; ++i) {
@@ -472,7 +470,7 @@ std::vector<LightDesc> bench_lights(const assets::HeightField& f, int count) {
 // Minimal work of one light (see the header).
 template <int N>
 double light_ops(const ts::TerrainShadowing<N>& s, const LightDesc& l) {
-  const assets::HeightField& f = s.field();
+  const data::HeightField& f = s.field();
   const ts::TerrainShadowConfig& c = s.config();
   const int levels = pyramid_levels(std::max(f.width, f.height), c.pyramid.level_step);
   const bool sh_wedges = c.light_shading == ts::LightShading::kShWedges;
@@ -534,13 +532,13 @@ void BM_Edit(benchmark::State& state) {
   constexpr int N = 4;
   auto& shadowing = shadowing_for<N>("edit", ts::TerrainShadowConfig{}, kSize);
   shadowing.update(scene_field(kSize), tbr::kHeightScale);  // the unedited terrain
-  const assets::HeightField& f0 = shadowing.field();
+  const data::HeightField& f0 = shadowing.field();
   ts::Brush brush;
   brush.radius = 8.0f * f0.cell_size;  // 16 x 16 texels
   brush.centre = glm::vec2(0.5f * (f0.width - 1), 0.5f * (f0.height - 1)) * f0.cell_size +
                  glm::vec2(0.5f * f0.cell_size);
   brush.strength = 2.0f;
-  std::shared_ptr<const assets::HeightField> field = scene_field(kSize);
+  std::shared_ptr<const data::HeightField> field = scene_field(kSize);
   double pairs = 0, texels = 0, edited = 0;
   std::int64_t n = 0;
   for (auto _ : state) {

@@ -19,8 +19,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/environment_map.h"
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/sh/basis.h"
 #include "terrain_reference.h"
 
@@ -45,12 +45,12 @@ struct Light {
   glm::vec3 radiance;
 };
 
-inline std::shared_ptr<const assets::HeightField> load_scene(const std::string& name, int size) {
+inline std::shared_ptr<const data::HeightField> load_scene(const std::string& name, int size) {
   return tr::load_terrain(name, size);
 }
 
-inline const assets::EnvironmentMap& environment_map() {
-  static const assets::EnvironmentMap map = tr::load_hdri(kEnvironment);
+inline const data::EnvironmentMap& environment_map() {
+  static const data::EnvironmentMap map = tr::load_hdri(kEnvironment);
   return map;
 }
 inline std::string environment_name() {

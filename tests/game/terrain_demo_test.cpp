@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/assets/load_error.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
@@ -37,7 +37,7 @@ TEST(TerrainDemo, SkyLightAndEditsDriveTheShadowSystem) {
 
   executor.run(schedule, world);
   const auto first_heights = [&] {
-    std::shared_ptr<const assets::HeightField> h;
+    std::shared_ptr<const data::HeightField> h;
     world.query<const Terrain>().each([&](const Terrain& t) { h = t.heights; });
     return h;
   }();

@@ -19,7 +19,7 @@ using test::make_map;
 
 // A small map with very different texels: luminance varies by 4 orders of magnitude, one
 // texel black, one red-only.
-assets::EnvironmentMap varied_map(int w = 8, int h = 4) {
+data::EnvironmentMap varied_map(int w = 8, int h = 4) {
   return make_map(
       w, h,
       [w](int x, int y) {
@@ -31,7 +31,7 @@ assets::EnvironmentMap varied_map(int w = 8, int h = 4) {
       "varied.exr");
 }
 
-void expect_throws_naming(const assets::EnvironmentMap& m, float rot, const std::string& part) {
+void expect_throws_naming(const data::EnvironmentMap& m, float rot, const std::string& part) {
   try {
     EnvironmentSampler s(m, rot);
     ADD_FAILURE() << "no exception for " << part;

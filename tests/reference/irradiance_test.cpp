@@ -17,7 +17,7 @@ namespace {
 using test::kPi;
 using test::within_error;
 
-Scene sky_scene(assets::EnvironmentMap map, float rot = 0) {
+Scene sky_scene(data::EnvironmentMap map, float rot = 0) {
   SceneDesc d;
   d.environment = EnvironmentLight{std::move(map), rot};
   return Scene(d);

@@ -12,7 +12,7 @@ namespace {
 // A tilted plane h = 0.5 x - 0.25 y (in world units): positions on the samples, normals
 // (-0.5, 0.25, 1) normalised everywhere, borders included (one-sided differences are exact).
 TEST(HeightFieldReceivers, PositionsAndCentralDifferenceNormals) {
-  assets::HeightField f = test::flat_field(5, 4, 2.0f, 0);
+  data::HeightField f = test::flat_field(5, 4, 2.0f, 0);
   for (int y = 0; y < 4; ++y) {
     for (int x = 0; x < 5; ++x) f.at(x, y) = 0.5f * (2.0f * x) - 0.25f * (2.0f * y);
   }
@@ -30,7 +30,7 @@ TEST(HeightFieldReceivers, PositionsAndCentralDifferenceNormals) {
 
 // A parabola h = x^2: central differences give the exact slope 2x inside.
 TEST(HeightFieldReceivers, CentralDifferencesInside) {
-  assets::HeightField f = test::flat_field(6, 3, 1.0f, 0);
+  data::HeightField f = test::flat_field(6, 3, 1.0f, 0);
   for (int y = 0; y < 3; ++y) {
     for (int x = 0; x < 6; ++x) f.at(x, y) = static_cast<float>(x * x);
   }

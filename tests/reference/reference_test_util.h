@@ -15,9 +15,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/environment_map.h"
-#include "penumbra/assets/height_field.h"
-#include "penumbra/assets/mesh.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
+#include "penumbra/data/mesh.h"
 #include "penumbra/reference/estimators.h"
 
 namespace penumbra::reference::test {
@@ -34,9 +34,9 @@ inline double z_bottom(int y, int h) {
 
 // A map whose texel (x, y) holds f(x, y, direction at the texel centre) in every channel
 // scaled by `tint`.
-inline assets::EnvironmentMap make_map(int w, int h, const std::function<glm::vec3(int, int)>& f,
+inline data::EnvironmentMap make_map(int w, int h, const std::function<glm::vec3(int, int)>& f,
                                        std::string source = "procedural") {
-  assets::EnvironmentMap m;
+  data::EnvironmentMap m;
   m.width = w;
   m.height = h;
   m.source = std::move(source);
@@ -51,14 +51,14 @@ inline assets::EnvironmentMap make_map(int w, int h, const std::function<glm::ve
   return m;
 }
 
-inline assets::EnvironmentMap constant_map(int w, int h, glm::vec3 radiance) {
+inline data::EnvironmentMap constant_map(int w, int h, glm::vec3 radiance) {
   return make_map(
       w, h, [&](int, int) { return radiance; }, "constant");
 }
 
 // "Cosine sky" L(w) = max(0, w_z), each texel holding its exact average over the texel
 // (solid-angle measure): (max(0, z_top)^2 - max(0, z_bottom)^2) / (2 (z_top - z_bottom)).
-inline assets::EnvironmentMap cosine_sky_map(int w, int h) {
+inline data::EnvironmentMap cosine_sky_map(int w, int h) {
   return make_map(
       w, h,
       [h](int, int y) {
@@ -82,7 +82,7 @@ inline double cosine_sky_irradiance(double g) {
 // with normal n: sum over texels of L * int_texel max(0, n.w) dw, the inner integral by an
 // m x m midpoint rule in (z, phi) (equal-area cells; error O(1/m^2) per texel, far below 1e-6
 // relative for m = 8 on a 256 x 128 map).
-inline glm::dvec3 exact_map_irradiance(const assets::EnvironmentMap& map, float rot, glm::vec3 n,
+inline glm::dvec3 exact_map_irradiance(const data::EnvironmentMap& map, float rot, glm::vec3 n,
                                        int m = 8) {
   const double c = std::cos(rot), s = std::sin(rot);
   const glm::dvec3 nm(c * n.x + s * n.y, -s * n.x + c * n.y, n.z);  // normal in the map frame
@@ -107,16 +107,16 @@ inline glm::dvec3 exact_map_irradiance(const assets::EnvironmentMap& map, float 
 }
 
 // A square of side 2 * half at height z, normal +z, as a 2-triangle mesh.
-inline assets::MeshData quad(float half, float z) {
-  assets::MeshData m;
+inline data::MeshData quad(float half, float z) {
+  data::MeshData m;
   m.name = "quad";
   m.positions = {{-half, -half, z}, {half, -half, z}, {half, half, z}, {-half, half, z}};
   m.indices = {0, 1, 2, 0, 2, 3};
   return m;
 }
 
-inline assets::HeightField flat_field(int w, int h, float cell, float height) {
-  assets::HeightField f;
+inline data::HeightField flat_field(int w, int h, float cell, float height) {
+  data::HeightField f;
   f.width = w;
   f.height = h;
   f.cell_size = cell;

@@ -84,7 +84,7 @@ TEST(Scene, RejectsBadHeightFieldsMeshesAndMaps) {
 // Straight-down rays find the piecewise-linear surface of scene.h: cell (x, y)-(x+1, y+1)
 // split along that diagonal.
 TEST(Scene, HeightFieldIsTwoTrianglesPerCellOnTheMainDiagonal) {
-  assets::HeightField f = test::flat_field(3, 3, 2.0f, 0);
+  data::HeightField f = test::flat_field(3, 3, 2.0f, 0);
   f.at(1, 0) = 4;  // raise one corner of cell (0, 0)
   SceneDesc d;
   d.height_fields.push_back({f, {10, 20, 1}});

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/lighting_result.h"

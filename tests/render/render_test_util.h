@@ -85,8 +85,8 @@ inline void expect_matches_golden(const ImageRgba8& image, const std::string& na
 
 // --- Scenes ---------------------------------------------------------------------------------
 
-inline std::shared_ptr<assets::MeshData> make_uv_sphere(int stacks, int slices, float radius) {
-  auto m = std::make_shared<assets::MeshData>();
+inline std::shared_ptr<data::MeshData> make_uv_sphere(int stacks, int slices, float radius) {
+  auto m = std::make_shared<data::MeshData>();
   m->name = "uv_sphere";
   for (int i = 0; i <= stacks; ++i) {
     const float theta = 3.14159265f * static_cast<float>(i) / static_cast<float>(stacks);
@@ -109,15 +109,15 @@ inline std::shared_ptr<assets::MeshData> make_uv_sphere(int stacks, int slices, 
 }
 
 // Per-vertex colours from the normal direction (a recognisable rainbow ball).
-inline std::shared_ptr<std::vector<glm::vec3>> normal_colours(const assets::MeshData& m,
+inline std::shared_ptr<std::vector<glm::vec3>> normal_colours(const data::MeshData& m,
                                                               float scale) {
   auto c = std::make_shared<std::vector<glm::vec3>>();
   for (const glm::vec3& n : m.normals) c->push_back(scale * (0.5f * n + 0.5f));
   return c;
 }
 
-inline std::shared_ptr<assets::HeightField> make_hills(int size, float cell) {
-  auto f = std::make_shared<assets::HeightField>();
+inline std::shared_ptr<data::HeightField> make_hills(int size, float cell) {
+  auto f = std::make_shared<data::HeightField>();
   f->width = f->height = size;
   f->cell_size = cell;
   f->source = "test hills";
@@ -194,8 +194,8 @@ inline RenderPacket debug_scene() {
 
 // A small equirectangular map: blue sky with a bright spot at azimuth 90 degrees (+y),
 // elevation 30 degrees, and a brown ground.
-inline std::shared_ptr<assets::EnvironmentMap> make_environment(int w, int h) {
-  auto e = std::make_shared<assets::EnvironmentMap>();
+inline std::shared_ptr<data::EnvironmentMap> make_environment(int w, int h) {
+  auto e = std::make_shared<data::EnvironmentMap>();
   e->width = w;
   e->height = h;
   e->source = "test environment";

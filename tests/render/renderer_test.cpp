@@ -149,7 +149,7 @@ TEST(Renderer, RejectsMeshesWithIndicesOutOfRange) {
   Renderer renderer(ctx.device);
   OffscreenTarget target(32, 18);
   RenderPacket p;
-  auto bad = std::make_shared<assets::MeshData>();
+  auto bad = std::make_shared<data::MeshData>();
   bad->positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   bad->indices = {0, 1, 3};
   MeshDraw d;
@@ -169,7 +169,7 @@ TEST(Renderer, MeshesCullClockwiseBackFaces) {
   OffscreenTarget target(32, 32);
   RenderPacket p;
   p.view.sky = false;
-  auto ccw = std::make_shared<assets::MeshData>();
+  auto ccw = std::make_shared<data::MeshData>();
   ccw->positions = {{-1, 0, -1}, {1, 0, -1}, {-1, 0, 1}};  // CCW seen from -y, the camera
   ccw->indices = {0, 1, 2};
   MeshDraw d;
@@ -184,7 +184,7 @@ TEST(Renderer, MeshesCullClockwiseBackFaces) {
     return n;
   };
   EXPECT_GT(lit(), 40) << "front face drawn";
-  auto cw = std::make_shared<assets::MeshData>(*ccw);
+  auto cw = std::make_shared<data::MeshData>(*ccw);
   cw->indices = {0, 2, 1};
   p.meshes[0].mesh = cw;
   EXPECT_EQ(lit(), 0) << "back face culled";

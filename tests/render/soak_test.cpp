@@ -66,7 +66,7 @@ struct Birth {
   std::uint64_t life = 0;
 };
 
-void add_churn(jobs::Schedule& s, std::shared_ptr<assets::MeshData> shared) {
+void add_churn(jobs::Schedule& s, std::shared_ptr<data::MeshData> shared) {
   s.add_chunks<const Birth>("die",
                             [](jobs::SystemContext& ctx, const ecs::ChunkView<const Birth>& c) {
                               const std::uint64_t now = ctx.world().resource<FrameTime>().frame;

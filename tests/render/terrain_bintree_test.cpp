@@ -17,8 +17,8 @@
 namespace penumbra::render {
 namespace {
 
-assets::HeightField field(int w, int h, float cell, float (*height)(int, int)) {
-  assets::HeightField f;
+data::HeightField field(int w, int h, float cell, float (*height)(int, int)) {
+  data::HeightField f;
   f.width = w;
   f.height = h;
   f.cell_size = cell;
@@ -36,7 +36,7 @@ struct Mesh {
   std::vector<glm::ivec2> corners;  // 3 per triangle
 };
 
-Mesh mesh(const TerrainBintree& tree, const assets::HeightField& f,
+Mesh mesh(const TerrainBintree& tree, const data::HeightField& f,
           const TerrainBintree::View& view) {
   std::vector<std::uint32_t> indices;
   const std::size_t n = tree.triangulate(view, indices);
@@ -54,7 +54,7 @@ long long twice_area(glm::ivec2 a, glm::ivec2 b, glm::ivec2 c) {
 
 // Every triangle counter-clockwise from above, their areas summing to the grid's, and no vertex
 // inside another triangle's edge (no T-junction): the mesh covers the grid without crack.
-void expect_conforming_cover(const Mesh& m, const assets::HeightField& f) {
+void expect_conforming_cover(const Mesh& m, const data::HeightField& f) {
   std::set<std::pair<int, int>> vertices;
   for (const glm::ivec2& v : m.corners) vertices.insert({v.x, v.y});
   long long area = 0;
@@ -90,7 +90,7 @@ TerrainBintree::View uncull(float max_pixels, glm::vec3 eye = {0.0f, 0.0f, 50.0f
 TEST(TerrainBintree, FullDetailDrawsEveryCellOnAnyGridSize) {
   for (const auto& [w, h] : {std::pair{33, 33}, std::pair{20, 20}, std::pair{40, 17},
                              std::pair{2, 2}, std::pair{2, 9}}) {
-    const assets::HeightField f = field(w, h, 1.0f, hills);
+    const data::HeightField f = field(w, h, 1.0f, hills);
     TerrainBintree tree;
     tree.build(f);
     const Mesh m = mesh(tree, f, uncull(0.0f));
@@ -100,7 +100,7 @@ TEST(TerrainBintree, FullDetailDrawsEveryCellOnAnyGridSize) {
 }
 
 TEST(TerrainBintree, APlaneIsTwoTriangles) {
-  const assets::HeightField f =
+  const data::HeightField f =
       field(33, 33, 2.0f, [](int x, int y) { return 0.3f * x - 0.2f * y + 1.0f; });
   TerrainBintree tree;
   tree.build(f);
@@ -109,7 +109,7 @@ TEST(TerrainBintree, APlaneIsTwoTriangles) {
   EXPECT_EQ(m.corners.size(), 6u);
   expect_conforming_cover(m, f);
   // Off the 2^k + 1 sizes the border splits, but a plane still needs no more inside.
-  const assets::HeightField g =
+  const data::HeightField g =
       field(30, 21, 2.0f, [](int x, int y) { return 0.3f * x - 0.2f * y + 1.0f; });
   tree.build(g);
   EXPECT_EQ(tree.error(16, 16), std::numeric_limits<float>::infinity()) << "across the border";
@@ -119,7 +119,7 @@ TEST(TerrainBintree, APlaneIsTwoTriangles) {
 // The triangles drawn, at any budget and eye, cover the grid without T-junctions.
 TEST(TerrainBintree, CoversTheGridWithoutCracksAtAnyBudget) {
   for (const auto& [w, h] : {std::pair{65, 65}, std::pair{50, 37}}) {
-    const assets::HeightField f = field(w, h, 1.0f, hills);
+    const data::HeightField f = field(w, h, 1.0f, hills);
     TerrainBintree tree;
     tree.build(f);
     for (float budget : {0.5f, 2.0f, 8.0f, 64.0f})
@@ -134,7 +134,7 @@ TEST(TerrainBintree, CoversTheGridWithoutCracksAtAnyBudget) {
 // anywhere on the triangle, spans at most the budget. Checked independently of the class: the
 // error by enumerating samples, its projection by sampling the triangle densely.
 TEST(TerrainBintree, EveryTriangleIsWithinThePixelBudget) {
-  const assets::HeightField f = field(65, 65, 0.5f, hills);
+  const data::HeightField f = field(65, 65, 0.5f, hills);
   TerrainBintree tree;
   tree.build(f);
   const float budget = 2.0f;
@@ -179,7 +179,7 @@ TEST(TerrainBintree, EveryTriangleIsWithinThePixelBudget) {
 
 // Far away, fewer and larger triangles; a view that looks away from the grid culls it all.
 TEST(TerrainBintree, CoarsensWithDistanceAndCullsOutsideTheView) {
-  const assets::HeightField f = field(129, 129, 1.0f, hills);
+  const data::HeightField f = field(129, 129, 1.0f, hills);
   TerrainBintree tree;
   tree.build(f);
   const Mesh near = mesh(tree, f, uncull(1.0f, {64, 64, 10}));
@@ -202,11 +202,11 @@ TEST(TerrainBintree, DegenerateFieldsGiveAnEmptyMeshOrSkipBadSamples) {
   std::vector<std::uint32_t> indices;
   tree.build(field(1, 5, 1.0f, hills));
   EXPECT_EQ(tree.triangulate(uncull(1.0f), indices), 0u);
-  assets::HeightField short_of_heights = field(8, 8, 1.0f, hills);
+  data::HeightField short_of_heights = field(8, 8, 1.0f, hills);
   short_of_heights.heights.resize(10);
   tree.build(short_of_heights);
   EXPECT_EQ(tree.triangulate(uncull(1.0f), indices), 0u);
-  assets::HeightField with_nan = field(17, 17, 1.0f, hills);
+  data::HeightField with_nan = field(17, 17, 1.0f, hills);
   with_nan.heights[5 * 17 + 7] = std::numeric_limits<float>::quiet_NaN();
   tree.build(with_nan);
   expect_conforming_cover(mesh(tree, with_nan, uncull(1.0f)), with_nan);

@@ -48,7 +48,7 @@ TEST(TerrainPass, NoCracksBetweenLevels) {
   RenderPacket p = test::terrain_scene();
   p.view.sky = false;
   p.terrain.albedo = glm::vec3(1.0f);
-  auto hills = std::make_shared<assets::HeightField>();
+  auto hills = std::make_shared<data::HeightField>();
   hills->width = hills->height = 257;
   hills->cell_size = 0.5f;
   auto height = [](float x, float y) { return 2.0f * std::sin(0.1f * x) * std::cos(0.08f * y); };

@@ -32,7 +32,7 @@ TEST(Golden, TerrainShadowedByTheTerrainShadowSystem) {
   cam.target = {0.0f, 0.0f, 0.0f};
   cam.vertical_fov = 0.9f;
   auto field =
-      std::make_shared<assets::HeightField>(assets::procedural_scene("egg_tray", {64, 96.0f}, 1));
+      std::make_shared<data::HeightField>(assets::procedural_scene("egg_tray", {64, 96.0f}, 1));
   w.create_with(components::Terrain{field, {-48.0f, -48.0f, 0.0f}, glm::vec3(0.6f), 1.5f},
                 components::TerrainLighting{});
   w.create_with(components::SphericalLight{{20.0f, -10.0f, 16.0f}, 3.0f, {30.0f, 18.0f, 6.0f}});

@@ -58,16 +58,16 @@ constexpr int kIdealSamples = 2048;  // SH-ideal: visibility directions per rece
 
 std::mutex cache_mutex;
 
-std::shared_ptr<const assets::HeightField> terrain(std::string_view name) {
-  static std::map<std::string, std::shared_ptr<const assets::HeightField>, std::less<>> cache;
+std::shared_ptr<const data::HeightField> terrain(std::string_view name) {
+  static std::map<std::string, std::shared_ptr<const data::HeightField>, std::less<>> cache;
   std::lock_guard lock(cache_mutex);
   auto it = cache.find(name);
   if (it == cache.end()) it = cache.emplace(std::string(name), load_terrain(name, 256)).first;
   return it->second;
 }
 
-const assets::EnvironmentMap& hdri(std::string_view name) {
-  static std::map<std::string, assets::EnvironmentMap, std::less<>> cache;
+const data::EnvironmentMap& hdri(std::string_view name) {
+  static std::map<std::string, data::EnvironmentMap, std::less<>> cache;
   std::lock_guard lock(cache_mutex);
   auto it = cache.find(name);
   if (it == cache.end()) it = cache.emplace(std::string(name), load_hdri(name)).first;
@@ -96,8 +96,8 @@ const ReferenceIrradiance& environment_reference(std::string_view scene, std::st
 
 // --- Helpers ----------------------------------------------------------------------------------
 
-std::shared_ptr<assets::HeightField> flat_field(int n) {
-  auto f = std::make_shared<assets::HeightField>();
+std::shared_ptr<data::HeightField> flat_field(int n) {
+  auto f = std::make_shared<data::HeightField>();
   f->width = f->height = n;
   f->cell_size = 1.0f;
   f->heights.assign(static_cast<std::size_t>(n) * n, 0.0f);
@@ -162,7 +162,7 @@ TerrainShadowConfig config(HorizonMethod m, int azimuths, int level_step = 4,
 // visibility and transfer (wedge table, eq. 4.19; transfer, eq. 4.21), exactly as
 // TerrainShadowing::compute_transfer_rows does for every texel: TerrainShadowing with kBruteForce
 // at these texels for 1/64 of its cost (a full 256^2 brute-force update takes 1.5-3 s).
-std::vector<glm::vec3> brute_force_environment(const assets::HeightField& f, const ReceiverSet& rs,
+std::vector<glm::vec3> brute_force_environment(const data::HeightField& f, const ReceiverSet& rs,
                                                int azimuths, const sh::CoeffsRgb<4>& radiance) {
   terrain_shadow::HorizonParams p;
   p.azimuths = azimuths;
@@ -309,7 +309,7 @@ constexpr LightBound kShLightBounds[] = {
     {"egg_tray", 0.17, 0.68},      // 12.8%, 50.8%
 };
 
-reference::SphereLight overhead_light(const assets::HeightField& f) {
+reference::SphereLight overhead_light(const data::HeightField& f) {
   const float extent = static_cast<float>(f.width - 1) * f.cell_size;
   const float top = *std::max_element(f.heights.begin(), f.heights.end()) * kScale;
   reference::SphereLight l;
@@ -488,7 +488,7 @@ PENUMBRA_SCENE_TESTS(EggTray, "egg_tray")
 // reference is brighter and the method looks 2-6.6% wrong (bias -1.4 to -5.0%). The cones' border
 // is flat ground at the field's minimum height, where both agree (nothing can be seen below it).
 TEST(TerrainReference, GroundPlaneModelsTheClampedHorizon) {
-  const assets::EnvironmentMap env = constant_environment(glm::vec3(1.0f));
+  const data::EnvironmentMap env = constant_environment(glm::vec3(1.0f));
   const sh::CoeffsRgb<4> radiance = environment_sh<4>(env, 0.0f);
   Lighting l;
   l.environment = &env;
@@ -549,7 +549,7 @@ TEST(TerrainFailureModes, ThinConeBetweenSampledAzimuths) {
                         static_cast<int>(std::lround(128 - d * std::sin(a)))});
   }
   const ReceiverSet rs = texel_receivers(*spike, kScale, texels);
-  const assets::EnvironmentMap env = constant_environment(glm::vec3(1.0f));
+  const data::EnvironmentMap env = constant_environment(glm::vec3(1.0f));
   Lighting l;
   l.environment = &env;
   ReferenceOptions o;
@@ -606,7 +606,7 @@ TEST(TerrainFailureModes, ThinWallBetweenMarchSamples) {
   for (int y = 120; y <= 136; y += 4)
     for (int d = 1; d <= 100; ++d) texels.push_back({101 + d, y});
   const ReceiverSet rs = texel_receivers(*wall, kScale, texels);
-  const assets::EnvironmentMap env = constant_environment(glm::vec3(1.0f));
+  const data::EnvironmentMap env = constant_environment(glm::vec3(1.0f));
   Lighting l;
   l.environment = &env;
   ReferenceOptions o;

@@ -13,8 +13,8 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-assets::HeightField walled(int n) {
-  assets::HeightField f;
+data::HeightField walled(int n) {
+  data::HeightField f;
   f.width = f.height = n;
   f.cell_size = 1;
   f.heights.assign(static_cast<std::size_t>(n) * n, 0.0f);

@@ -16,8 +16,8 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-assets::HeightField noise(int n, std::uint32_t seed) {
-  assets::HeightField f = test::flat_field(n, n, 0.0f);
+data::HeightField noise(int n, std::uint32_t seed) {
+  data::HeightField f = test::flat_field(n, n, 0.0f);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   for (float& v : f.heights) v = u(rng);
@@ -88,7 +88,7 @@ TEST(HeightPyramid, ImpulseSpreadsOverAboutTheLevelSpacing) {
   // Level i is filtered for spacing s = 2^(i / ls): a tent of half-width s, then a B-spline
   // with knots s apart, so a single spike spreads to at most 3 s cells and its peak drops.
   const int n = 65, c = 32;
-  assets::HeightField f = test::flat_field(n, n, 0.0f);
+  data::HeightField f = test::flat_field(n, n, 0.0f);
   f.at(c, c) = 1.0f;
   HeightPyramid p;
   p.build(f, 1.0f, {2});
@@ -136,7 +136,7 @@ TEST(HeightPyramid, RebuildsAtAnotherSize) {
 }
 
 TEST(HeightPyramid, RejectsBadInputNamingTheField) {
-  auto expect_error = [](const assets::HeightField& f, float scale, int ls) {
+  auto expect_error = [](const data::HeightField& f, float scale, int ls) {
     HeightPyramid p;
     try {
       p.build(f, scale, {ls});
@@ -150,7 +150,7 @@ TEST(HeightPyramid, RejectsBadInputNamingTheField) {
   expect_error(test::flat_field(1, 8, 0.0f), 1.0f, 4);
   expect_error(test::flat_field(8, 8, 0.0f, 0.0f), 1.0f, 4);
   expect_error(test::flat_field(8, 8, 0.0f), std::nanf(""), 4);
-  assets::HeightField bad = test::flat_field(8, 8, 0.0f);
+  data::HeightField bad = test::flat_field(8, 8, 0.0f);
   bad.at(3, 4) = INFINITY;
   expect_error(bad, 1.0f, 4);
 }

@@ -21,14 +21,14 @@ namespace {
 constexpr float kPi = std::numbers::pi_v<float>;
 
 // A cliff: height h from column x on, 0 before.
-assets::HeightField cliff(int n, int x0, float h) {
-  assets::HeightField f = test::flat_field(n, n, 0.0f, 1.0f, "test field");
+data::HeightField cliff(int n, int x0, float h) {
+  data::HeightField f = test::flat_field(n, n, 0.0f, 1.0f, "test field");
   for (int y = 0; y < n; ++y)
     for (int x = x0; x < n; ++x) f.at(x, y) = h;
   return f;
 }
 
-HorizonGrid march(const assets::HeightField& f, const HorizonParams& p, int ls, float lo) {
+HorizonGrid march(const data::HeightField& f, const HorizonParams& p, int ls, float lo) {
   HeightPyramid pyramid;
   pyramid.build(f, p.height_scale, {ls});
   HorizonGrid out;
@@ -36,7 +36,7 @@ HorizonGrid march(const assets::HeightField& f, const HorizonParams& p, int ls, 
   return out;
 }
 
-HorizonGrid brute(const assets::HeightField& f, const HorizonParams& p) {
+HorizonGrid brute(const data::HeightField& f, const HorizonParams& p) {
   HorizonGrid out;
   brute_force_horizons(f, p, TexelRect::all(f), out);
   return out;

@@ -16,7 +16,7 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-assets::HeightField mountains(int n, std::uint64_t seed = 3) {
+data::HeightField mountains(int n, std::uint64_t seed = 3) {
   return assets::procedural_scene("mountains", {n, static_cast<float>(n)}, seed);
 }
 
@@ -91,7 +91,7 @@ TEST(HorizonSweep, LineInterpolationErrorAgainstEachTexelsOwnRay) {
 }
 
 TEST(HorizonSweep, ThroughAnEditEqualsAFullSweepAndFlagsWhatChanged) {
-  assets::HeightField f = mountains(50, 11);
+  data::HeightField f = mountains(50, 11);
   HorizonParams p;
   p.azimuths = 19;
   HorizonGrid before, updated, full;
@@ -119,7 +119,7 @@ TEST(HorizonSweep, ThroughAnEditEqualsAFullSweepAndFlagsWhatChanged) {
 }
 
 TEST(HorizonSweep, WallCastsItsExactAngle) {
-  assets::HeightField f;
+  data::HeightField f;
   f.width = f.height = 32;
   f.cell_size = 2;
   f.heights.assign(32 * 32, 0.0f);
@@ -163,7 +163,7 @@ TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
 }
 
 TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {
-  assets::HeightField f;
+  data::HeightField f;
   f.width = f.height = 16;
   f.heights.assign(256, 0.0f);
   f.at(8, 8) = 1e6f;  // single-texel spike, extreme slope
@@ -188,7 +188,7 @@ TEST(HorizonSweep, RejectsADistanceLimit) {
 }
 
 TEST(HorizonBruteForce, DistanceLimitIgnoresOccludersBeyondTheLight) {
-  assets::HeightField f;
+  data::HeightField f;
   f.width = f.height = 32;
   f.heights.assign(32 * 32, 0.0f);
   for (int y = 0; y < 32; ++y) f.at(20, y) = 10;

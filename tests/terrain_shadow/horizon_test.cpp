@@ -12,7 +12,7 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-std::string error_of(const assets::HeightField& f, const HorizonParams& p, const TexelRect& r) {
+std::string error_of(const data::HeightField& f, const HorizonParams& p, const TexelRect& r) {
   try {
     validate_horizon_input(f, p, r);
   } catch (const std::invalid_argument& e) {

@@ -164,7 +164,7 @@ TEST(LightShading, UnoccludedLightsMatchTheClosedForm) {
 // centre hides about half the cap (the upper half carries a little more cosine).
 TEST(LightShading, WallHidingHalfTheLightHalvesTheIrradiance) {
   const int n = 64;
-  auto f = std::make_shared<assets::HeightField>(*test::shared_flat(n));
+  auto f = std::make_shared<data::HeightField>(*test::shared_flat(n));
   const float wall = 6.0f;  // 8 cells thick, so that the pyramid march of kShWedges sees it
   for (int y = 0; y < n; ++y)
     for (int x = 40; x < 48; ++x) f->at(x, y) = wall;
@@ -195,7 +195,7 @@ TEST(LightShading, WallHidingHalfTheLightHalvesTheIrradiance) {
       EXPECT_LT(ratio, 0.9f);
     }
     // Behind a wall twice as high the light is gone.
-    auto tall = std::make_shared<assets::HeightField>(*f);
+    auto tall = std::make_shared<data::HeightField>(*f);
     for (int y = 0; y < n; ++y)
       for (int x = 40; x < 48; ++x) tall->at(x, y) = 2 * wall;
     TerrainShadowing<4> hidden(mode(s));
@@ -213,7 +213,7 @@ TEST(LightShading, LightBelowTheHorizonOrBehindTheTangentPlaneGivesNothing) {
   // On a tilted plane, a light below it (behind every tangent plane) and a light hidden by a
   // ridge.
   const int n = 48;
-  auto tilted = std::make_shared<assets::HeightField>(*test::shared_flat(n));
+  auto tilted = std::make_shared<data::HeightField>(*test::shared_flat(n));
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) tilted->at(x, y) = 0.5f * x;
   TerrainShadowing<4> ts(mode(LightShading::kCapHorizon));

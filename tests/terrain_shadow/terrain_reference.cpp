@@ -23,10 +23,10 @@ std::filesystem::path shared_data() {
 namespace {
 
 // Bilinear resampling of the central square of `f` to size x size samples.
-assets::HeightField resample_square(const assets::HeightField& f, int size) {
+data::HeightField resample_square(const data::HeightField& f, int size) {
   const int side = std::min(f.width, f.height);
   const int x0 = (f.width - side) / 2, y0 = (f.height - side) / 2;
-  assets::HeightField out;
+  data::HeightField out;
   out.width = out.height = size;
   out.cell_size = f.cell_size * static_cast<float>(side - 1) / static_cast<float>(size - 1);
   out.heights.resize(static_cast<std::size_t>(size) * size);
@@ -50,7 +50,7 @@ assets::HeightField resample_square(const assets::HeightField& f, int size) {
 }
 
 // 1e-5 x the field's size (estimators.h "Ray offsets", without the ground plane's extent).
-float ray_offset_for(const assets::HeightField& field, float height_scale) {
+float ray_offset_for(const data::HeightField& field, float height_scale) {
   float size = static_cast<float>(std::max(field.width, field.height)) * field.cell_size;
   for (float h : field.heights) size = std::max(size, std::fabs(height_scale * h));
   return 1e-5f * size;
@@ -62,29 +62,29 @@ float length2(const glm::vec3& v) {
 
 }  // namespace
 
-std::shared_ptr<const assets::HeightField> load_terrain(std::string_view name, int size) {
+std::shared_ptr<const data::HeightField> load_terrain(std::string_view name, int size) {
   if (size < 2) throw std::invalid_argument("load_terrain: size must be >= 2");
   if (name == "dem") {
-    const assets::HeightField dem =
+    const data::HeightField dem =
         assets::load_height_field(shared_data() / "terrain" / "jacksboro_fault_dem.pgm");
     if (size <= std::min(dem.width, dem.height))
-      return std::make_shared<assets::HeightField>(
-          assets::crop(dem, (dem.width - size) / 2, (dem.height - size) / 2, size, size));
-    return std::make_shared<assets::HeightField>(resample_square(dem, size));
+      return std::make_shared<data::HeightField>(
+          data::crop(dem, (dem.width - size) / 2, (dem.height - size) / 2, size, size));
+    return std::make_shared<data::HeightField>(resample_square(dem, size));
   }
   for (std::string_view known : {"mountains", "cones", "sine_grating", "egg_tray", "city"})
     if (name == known)
-      return std::make_shared<assets::HeightField>(
+      return std::make_shared<data::HeightField>(
           assets::procedural_scene(name, {size, kProceduralExtent}, 1));
   throw std::invalid_argument("load_terrain: unknown scene \"" + std::string(name) + "\"");
 }
 
-assets::EnvironmentMap load_hdri(std::string_view name) {
+data::EnvironmentMap load_hdri(std::string_view name) {
   return assets::load_environment_map(shared_data() / "hdri" / (std::string(name) + ".exr"));
 }
 
-assets::EnvironmentMap constant_environment(glm::vec3 radiance, int width, int height) {
-  assets::EnvironmentMap m;
+data::EnvironmentMap constant_environment(glm::vec3 radiance, int width, int height) {
+  data::EnvironmentMap m;
   m.width = width;
   m.height = height;
   m.source = "constant";
@@ -98,13 +98,13 @@ assets::EnvironmentMap constant_environment(glm::vec3 radiance, int width, int h
 }
 
 template <int N>
-sh::CoeffsRgb<N> environment_sh(const assets::EnvironmentMap& map, float rotation_z) {
+sh::CoeffsRgb<N> environment_sh(const data::EnvironmentMap& map, float rotation_z) {
   sh::CoeffsRgb<N> l = sh::project_equirect<N>(map.rgb.data(), map.width, map.height);
   for (auto& c : l) c = sh::rotate_z<N>(c, rotation_z);
   return l;
 }
 
-ReceiverSet texel_receivers(const assets::HeightField& field, float height_scale,
+ReceiverSet texel_receivers(const data::HeightField& field, float height_scale,
                             std::span<const glm::ivec2> texels) {
   ReceiverSet out;
   out.width = field.width;
@@ -131,7 +131,7 @@ ReceiverSet texel_receivers(const assets::HeightField& field, float height_scale
   return out;
 }
 
-ReceiverSet texel_receivers(const assets::HeightField& field, float height_scale, int stride) {
+ReceiverSet texel_receivers(const data::HeightField& field, float height_scale, int stride) {
   if (stride < 1) throw std::invalid_argument("texel_receivers: stride must be >= 1");
   std::vector<glm::ivec2> texels;
   for (int y = stride / 2; y < field.height; y += stride)
@@ -139,7 +139,7 @@ ReceiverSet texel_receivers(const assets::HeightField& field, float height_scale
   return texel_receivers(field, height_scale, texels);
 }
 
-reference::SceneDesc reference_scene(const assets::HeightField& field, float height_scale,
+reference::SceneDesc reference_scene(const data::HeightField& field, float height_scale,
                                      const Lighting& lighting, const ReferenceOptions& options) {
   reference::SceneDesc d;
   reference::HeightFieldInstance hf;
@@ -166,7 +166,7 @@ reference::SceneDesc reference_scene(const assets::HeightField& field, float hei
   return d;
 }
 
-ReferenceIrradiance reference_irradiance(const assets::HeightField& field, float height_scale,
+ReferenceIrradiance reference_irradiance(const data::HeightField& field, float height_scale,
                                          const ReceiverSet& receivers, const Lighting& lighting,
                                          const ReferenceOptions& options) {
   const reference::Scene scene(reference_scene(field, height_scale, lighting, options));
@@ -193,7 +193,7 @@ ReferenceIrradiance reference_irradiance(const assets::HeightField& field, float
 }
 
 template <int N>
-ReferenceVisibility<N> reference_visibility(const assets::HeightField& field, float height_scale,
+ReferenceVisibility<N> reference_visibility(const data::HeightField& field, float height_scale,
                                             const ReceiverSet& receivers,
                                             const ReferenceOptions& options) {
   const reference::Scene scene(reference_scene(field, height_scale, Lighting{}, options));
@@ -321,7 +321,7 @@ std::string describe(const terrain_shadow::TerrainShadowConfig& c) {
 
 template <int N>
 std::vector<glm::vec3> method_environment(const terrain_shadow::TerrainShadowConfig& config,
-                                          std::shared_ptr<const assets::HeightField> field,
+                                          std::shared_ptr<const data::HeightField> field,
                                           float height_scale, const sh::CoeffsRgb<N>& radiance) {
   terrain_shadow::TerrainShadowing<N> ts(config);
   ts.update(std::move(field), height_scale);
@@ -330,12 +330,12 @@ std::vector<glm::vec3> method_environment(const terrain_shadow::TerrainShadowCon
   return e;
 }
 
-template sh::CoeffsRgb<3> environment_sh<3>(const assets::EnvironmentMap&, float);
-template sh::CoeffsRgb<4> environment_sh<4>(const assets::EnvironmentMap&, float);
-template sh::CoeffsRgb<5> environment_sh<5>(const assets::EnvironmentMap&, float);
+template sh::CoeffsRgb<3> environment_sh<3>(const data::EnvironmentMap&, float);
+template sh::CoeffsRgb<4> environment_sh<4>(const data::EnvironmentMap&, float);
+template sh::CoeffsRgb<5> environment_sh<5>(const data::EnvironmentMap&, float);
 #define PENUMBRA_VIS_INSTANTIATE(N)                                                               \
   template ReferenceVisibility<N> reference_visibility<N>(                                        \
-      const assets::HeightField&, float, const ReceiverSet&, const ReferenceOptions&);            \
+      const data::HeightField&, float, const ReceiverSet&, const ReferenceOptions&);            \
   template std::vector<reference::RgbEstimate> shade_visibility<N>(const ReferenceVisibility<N>&, \
                                                                    const sh::CoeffsRgb<N>&);      \
   template std::vector<reference::RgbEstimate> shade_visibility<N>(const ReferenceVisibility<N>&, \
@@ -345,13 +345,13 @@ PENUMBRA_VIS_INSTANTIATE(4)
 PENUMBRA_VIS_INSTANTIATE(5)
 #undef PENUMBRA_VIS_INSTANTIATE
 template std::vector<glm::vec3> method_environment<3>(const terrain_shadow::TerrainShadowConfig&,
-                                                      std::shared_ptr<const assets::HeightField>,
+                                                      std::shared_ptr<const data::HeightField>,
                                                       float, const sh::CoeffsRgb<3>&);
 template std::vector<glm::vec3> method_environment<4>(const terrain_shadow::TerrainShadowConfig&,
-                                                      std::shared_ptr<const assets::HeightField>,
+                                                      std::shared_ptr<const data::HeightField>,
                                                       float, const sh::CoeffsRgb<4>&);
 template std::vector<glm::vec3> method_environment<5>(const terrain_shadow::TerrainShadowConfig&,
-                                                      std::shared_ptr<const assets::HeightField>,
+                                                      std::shared_ptr<const data::HeightField>,
                                                       float, const sh::CoeffsRgb<5>&);
 
 }  // namespace penumbra::terrain_reference

@@ -72,8 +72,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/environment_map.h"
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/sh/basis.h"
@@ -90,17 +90,17 @@ inline constexpr std::array<std::string_view, 5> kTerrainNames = {"dem", "mounta
                                                                   "sine_grating", "egg_tray"};
 
 // A scene by name (see the header comment) at size x size samples (size >= 2).
-std::shared_ptr<const assets::HeightField> load_terrain(std::string_view name, int size = 256);
+std::shared_ptr<const data::HeightField> load_terrain(std::string_view name, int size = 256);
 
 // ../shared/data/hdri/<name>.exr.
-assets::EnvironmentMap load_hdri(std::string_view name);
+data::EnvironmentMap load_hdri(std::string_view name);
 // A width x height map of one radiance everywhere (the ground plane blocks its lower half).
-assets::EnvironmentMap constant_environment(glm::vec3 radiance, int width = 64, int height = 32);
+data::EnvironmentMap constant_environment(glm::vec3 radiance, int width = 64, int height = 32);
 
 // The map's SH projection (sh::project_equirect) turned by rotation_z about +z the way the
 // reference turns the map (reference/environment.h, sh::rotate_z): the radiance the method gets.
 template <int N>
-sh::CoeffsRgb<N> environment_sh(const assets::EnvironmentMap& map, float rotation_z);
+sh::CoeffsRgb<N> environment_sh(const data::EnvironmentMap& map, float rotation_z);
 
 // Receivers at a subset of the field's texels.
 struct ReceiverSet {
@@ -110,9 +110,9 @@ struct ReceiverSet {
 };
 // Every stride-th texel along both axes, starting at stride / 2 (so 8 gives 32 x 32 receivers at
 // 256 x 256, none on the border row).
-ReceiverSet texel_receivers(const assets::HeightField& field, float height_scale, int stride);
+ReceiverSet texel_receivers(const data::HeightField& field, float height_scale, int stride);
 // Given texels (x, y); throws std::invalid_argument for one outside the field.
-ReceiverSet texel_receivers(const assets::HeightField& field, float height_scale,
+ReceiverSet texel_receivers(const data::HeightField& field, float height_scale,
                             std::span<const glm::ivec2> texels);
 
 struct ReferenceOptions {
@@ -123,14 +123,14 @@ struct ReferenceOptions {
 };
 
 struct Lighting {
-  const assets::EnvironmentMap* environment = nullptr;  // not owned; null: no environment
+  const data::EnvironmentMap* environment = nullptr;  // not owned; null: no environment
   float rotation_z = 0;
   std::vector<reference::SphereLight> lights;
 };
 
 // The reference scene: the field (heights x height_scale), the ground plane if asked, the
 // lighting.
-reference::SceneDesc reference_scene(const assets::HeightField& field, float height_scale,
+reference::SceneDesc reference_scene(const data::HeightField& field, float height_scale,
                                      const Lighting& lighting,
                                      const ReferenceOptions& options = {});
 
@@ -139,7 +139,7 @@ struct ReferenceIrradiance {
   std::vector<reference::RgbEstimate> environment;  // empty without an environment
   std::vector<reference::RgbEstimate> lights;       // sum of the lights; empty without lights
 };
-ReferenceIrradiance reference_irradiance(const assets::HeightField& field, float height_scale,
+ReferenceIrradiance reference_irradiance(const data::HeightField& field, float height_scale,
                                          const ReceiverSet& receivers, const Lighting& lighting,
                                          const ReferenceOptions& options = {});
 
@@ -161,7 +161,7 @@ struct ReferenceVisibility {
   std::vector<sh::Coeffs<N>> half[2];
 };
 template <int N>
-ReferenceVisibility<N> reference_visibility(const assets::HeightField& field, float height_scale,
+ReferenceVisibility<N> reference_visibility(const data::HeightField& field, float height_scale,
                                             const ReceiverSet& receivers,
                                             const ReferenceOptions& options = {});
 // Under an environment (SH radiance, already rotated).
@@ -197,7 +197,7 @@ std::string describe(const terrain_shadow::TerrainShadowConfig& config);
 // Method irradiance of the environment for a whole field: update + shade_environment.
 template <int N>
 std::vector<glm::vec3> method_environment(const terrain_shadow::TerrainShadowConfig& config,
-                                          std::shared_ptr<const assets::HeightField> field,
+                                          std::shared_ptr<const data::HeightField> field,
                                           float height_scale, const sh::CoeffsRgb<N>& radiance);
 
 }  // namespace penumbra::terrain_reference

@@ -36,7 +36,7 @@ struct Fixture {
     config.azimuths = 8;
     config.light_azimuths = 8;
     emplace_terrain_shadow_resources(world, config);
-    auto field = std::make_shared<assets::HeightField>(
+    auto field = std::make_shared<data::HeightField>(
         assets::procedural_scene("mountains", {32, 64.0f}, 2));
     terrain = world.create_with(Terrain{field, {-32.0f, -32.0f, 0.0f}}, TerrainLighting{});
     light = world.create_with(SphericalLight{{0.0f, 0.0f, 60.0f}, 4.0f, glm::vec3(5.0f)});

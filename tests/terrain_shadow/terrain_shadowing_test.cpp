@@ -67,7 +67,7 @@ TEST(TerrainShadowing, FlatGroundSeesTheWholeSky) {
 
 TEST(TerrainShadowing, ValleyIsDarkerThanRidgeAndEverythingIsFinite) {
   TerrainShadowing<4> ts;
-  auto f = std::make_shared<assets::HeightField>(
+  auto f = std::make_shared<data::HeightField>(
       assets::procedural_scene("sine_grating", {64, 64.0f}, 1));
   ts.update(f, 4.0f);  // steepened: ridges 4x the default amplitude
   std::vector<glm::vec3> e;
@@ -109,7 +109,7 @@ TEST(TerrainShadowing, RejectsInvalidLights) {
 }
 
 TEST(TerrainShadowing, RejectsBadInputNamingIt) {
-  auto f = std::make_shared<assets::HeightField>(*test::shared_flat(8));
+  auto f = std::make_shared<data::HeightField>(*test::shared_flat(8));
   f->at(3, 4) = std::numeric_limits<float>::quiet_NaN();
   f->source = "broken.pgm";
   TerrainShadowing<4> ts;
@@ -125,7 +125,7 @@ TEST(TerrainShadowing, RejectsBadInputNamingIt) {
 }
 
 TEST(TerrainShadowing, SpikesAndExtremeSlopesStayFinite) {
-  auto f = std::make_shared<assets::HeightField>(*test::shared_flat(24));
+  auto f = std::make_shared<data::HeightField>(*test::shared_flat(24));
   f->at(12, 12) = 1e5f;  // a single-texel spike, near-vertical slopes
   TerrainShadowing<4> ts;
   ts.update(f, 1.0f);

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/assets/procedural.h"
 #include "penumbra/sh/basis.h"
 
@@ -17,9 +17,9 @@ namespace penumbra::terrain_shadow::test {
 
 // A flat field of w x h samples at height `value`, `cell` metres apart, named `source` (what
 // error messages name).
-inline assets::HeightField flat_field(int w, int h, float value = 0.0f, float cell = 1.0f,
+inline data::HeightField flat_field(int w, int h, float value = 0.0f, float cell = 1.0f,
                                       std::string source = "flat") {
-  assets::HeightField f;
+  data::HeightField f;
   f.width = w;
   f.height = h;
   f.cell_size = cell;
@@ -28,14 +28,14 @@ inline assets::HeightField flat_field(int w, int h, float value = 0.0f, float ce
   return f;
 }
 // The same, n x n, shared (what TerrainShadowing::update takes).
-inline std::shared_ptr<const assets::HeightField> shared_flat(int n, float value = 0.0f,
+inline std::shared_ptr<const data::HeightField> shared_flat(int n, float value = 0.0f,
                                                               float cell = 1.0f) {
-  return std::make_shared<assets::HeightField>(flat_field(n, n, value, cell));
+  return std::make_shared<data::HeightField>(flat_field(n, n, value, cell));
 }
 
 // fBm mountains on an n x n grid, 2 m cells (slopes up to about 40 degrees).
-inline std::shared_ptr<const assets::HeightField> mountains(int n, std::uint64_t seed = 4) {
-  return std::make_shared<assets::HeightField>(
+inline std::shared_ptr<const data::HeightField> mountains(int n, std::uint64_t seed = 4) {
+  return std::make_shared<data::HeightField>(
       assets::procedural_scene("mountains", {n, 2.0f * n}, seed));
 }
 

@@ -14,7 +14,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const HeightSidecar s =
         parse_height_sidecar({reinterpret_cast<const char*>(data), size}, "fuzz.json");
     const std::vector<float> values = {0, 1, 2, 3, 65535, 7};
-    const HeightField f = make_height_field(3, 2, values, s, "fuzz.pgm");
+    const penumbra::data::HeightField f = make_height_field(3, 2, values, s, "fuzz.pgm");
     if (f.heights.size() != static_cast<std::size_t>(f.width) * f.height) __builtin_trap();
   } catch (const LoadError&) {
   }

@@ -65,7 +65,7 @@ void require_finite(const std::vector<float>& v, std::size_t stride, int width,
 }
 
 // See exr.h. Row weights are the equirect texel solid angles up to a constant factor.
-std::size_t remove_negative_lobes(EnvironmentMap& m) {
+std::size_t remove_negative_lobes(data::EnvironmentMap& m) {
   constexpr int kBlock = 8;
   std::vector<double> w(static_cast<std::size_t>(m.height));
   for (int y = 0; y < m.height; ++y)
@@ -109,10 +109,10 @@ int exr_channel_count(const std::filesystem::path& path) {
   }
 }
 
-EnvironmentMap load_environment_map(const std::filesystem::path& path) {
+data::EnvironmentMap load_environment_map(const std::filesystem::path& path) {
   const std::string name = path.string();
   detail::require_file(path);
-  EnvironmentMap map;
+  data::EnvironmentMap map;
   try {
     Imf::InputFile file(path.c_str());
     const Window win = checked_window(file.header(), name);
@@ -140,7 +140,7 @@ EnvironmentMap load_environment_map(const std::filesystem::path& path) {
   return map;
 }
 
-HeightField load_height_field_exr(const std::filesystem::path& path) {
+data::HeightField load_height_field_exr(const std::filesystem::path& path) {
   const std::string name = path.string();
   detail::require_file(path);
   const HeightSidecar sidecar = load_height_sidecar(path);

@@ -191,7 +191,7 @@ class Converter {
                               " is not triangles; skipped");
       return;
     }
-    auto data = std::make_shared<MeshData>();
+    auto data = std::make_shared<data::MeshData>();
     data->name =
         (mesh.name.empty() ? "mesh" + std::to_string(mi) : mesh.name) + "/" + std::to_string(pi);
     std::vector<std::uint32_t> indices;
@@ -237,7 +237,7 @@ class Converter {
     out_.meshes.push_back(std::move(data));
   }
 
-  void check_normals(MeshData& data, const std::string& where) {
+  void check_normals(data::MeshData& data, const std::string& where) {
     if (data.normals.empty()) return;
     if (data.normals.size() != data.positions.size())
       fail(where + std::to_string(data.normals.size()) + " normals for " +

@@ -162,7 +162,7 @@ HeightSidecar parse_height_sidecar(std::string_view text, const std::string& nam
   return s;
 }
 
-HeightField make_height_field(int width, int height, std::span<const float> values,
+data::HeightField make_height_field(int width, int height, std::span<const float> values,
                               const HeightSidecar& s, const std::string& name) {
   if ((s.width && *s.width != width) || (s.height && *s.height != height))
     throw LoadError(name, "wrong dimensions: image is " + std::to_string(width) + "x" +
@@ -172,7 +172,7 @@ HeightField make_height_field(int width, int height, std::span<const float> valu
   if (values.size() != static_cast<std::size_t>(width) * height)
     throw LoadError(name, "wrong dimensions: " + std::to_string(values.size()) + " values for " +
                               std::to_string(width) + "x" + std::to_string(height));
-  HeightField f;
+  data::HeightField f;
   f.width = width;
   f.height = height;
   f.heights.resize(values.size());
@@ -200,7 +200,7 @@ HeightField make_height_field(int width, int height, std::span<const float> valu
     throw LoadError(name, "resampled height field too large (cell sizes " + std::to_string(cx) +
                               " x " + std::to_string(cy) + ")");
   const auto m = static_cast<std::int64_t>(md);
-  HeightField g;
+  data::HeightField g;
   g.width = along_y ? width : static_cast<int>(m);
   g.height = along_y ? static_cast<int>(m) : height;
   g.cell_size = f.cell_size;
@@ -229,7 +229,7 @@ HeightSidecar load_height_sidecar(const std::filesystem::path& image_path) {
       std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), json.string());
 }
 
-HeightField load_height_field_pgm(const std::filesystem::path& path) {
+data::HeightField load_height_field_pgm(const std::filesystem::path& path) {
   const std::string name = path.string();
   const std::vector<unsigned char> bytes = detail::read_file(path);
   const PgmImage img = parse_pgm(bytes, name);
@@ -238,7 +238,7 @@ HeightField load_height_field_pgm(const std::filesystem::path& path) {
   return make_height_field(img.width, img.height, values, sidecar, name);
 }
 
-HeightField load_height_field(const std::filesystem::path& path) {
+data::HeightField load_height_field(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });

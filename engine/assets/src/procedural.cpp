@@ -55,13 +55,13 @@ float gradient_noise(float x, float y, std::uint64_t seed) {
 }
 
 template <class F>
-HeightField sample(const TerrainGrid& grid, const std::string& source, F&& f) {
+data::HeightField sample(const TerrainGrid& grid, const std::string& source, F&& f) {
   if (grid.resolution < 2 || !(grid.extent > 0) || !std::isfinite(grid.extent) ||
       static_cast<std::size_t>(grid.resolution) * grid.resolution > kMaxHeightSamples)
     throw std::invalid_argument("procedural " + source + ": bad grid (resolution " +
                                 std::to_string(grid.resolution) + ", extent " +
                                 std::to_string(grid.extent) + ")");
-  HeightField hf;
+  data::HeightField hf;
   hf.width = hf.height = grid.resolution;
   hf.cell_size = grid.extent / static_cast<float>(grid.resolution - 1);
   hf.source = "procedural:" + source;
@@ -75,7 +75,7 @@ HeightField sample(const TerrainGrid& grid, const std::string& source, F&& f) {
 
 }  // namespace
 
-HeightField fbm_mountains(const TerrainGrid& grid, const MountainParams& p) {
+data::HeightField fbm_mountains(const TerrainGrid& grid, const MountainParams& p) {
   if (p.octaves < 1 || p.octaves > 24 || !(p.wavelength > 0))
     throw std::invalid_argument("procedural mountains: octaves must be 1..24 and wavelength > 0");
   float norm = 0, amp = 1;
@@ -92,7 +92,7 @@ HeightField fbm_mountains(const TerrainGrid& grid, const MountainParams& p) {
   });
 }
 
-HeightField cones(const TerrainGrid& grid, const ConesParams& p) {
+data::HeightField cones(const TerrainGrid& grid, const ConesParams& p) {
   if (p.count < 1 || !(p.min_radius > 0) || p.max_radius < p.min_radius)
     throw std::invalid_argument(
         "procedural cones: need count >= 1 and 0 < min_radius <= max_radius");
@@ -112,7 +112,7 @@ HeightField cones(const TerrainGrid& grid, const ConesParams& p) {
   });
 }
 
-HeightField sine_grating(const TerrainGrid& grid, const SineGratingParams& p) {
+data::HeightField sine_grating(const TerrainGrid& grid, const SineGratingParams& p) {
   if (!(p.period > 0)) throw std::invalid_argument("procedural sine grating: period must be > 0");
   const float kx = std::cos(p.angle), ky = std::sin(p.angle),
               w = 2 * std::numbers::pi_v<float> / p.period;
@@ -121,7 +121,7 @@ HeightField sine_grating(const TerrainGrid& grid, const SineGratingParams& p) {
   });
 }
 
-HeightField egg_tray(const TerrainGrid& grid, const EggTrayParams& p) {
+data::HeightField egg_tray(const TerrainGrid& grid, const EggTrayParams& p) {
   if (!(p.period > 0)) throw std::invalid_argument("procedural egg tray: period must be > 0");
   const float w = 2 * std::numbers::pi_v<float> / p.period;
   return sample(grid, "egg_tray", [&](float x, float y) {
@@ -129,7 +129,7 @@ HeightField egg_tray(const TerrainGrid& grid, const EggTrayParams& p) {
   });
 }
 
-HeightField city_blocks(const TerrainGrid& grid, const CityParams& p) {
+data::HeightField city_blocks(const TerrainGrid& grid, const CityParams& p) {
   if (p.lots < 1 || !(p.block > p.street) || p.street < 0 || p.gap < 0 || !(p.storey > 0) ||
       p.max_height < p.min_height)
     throw std::invalid_argument("procedural city: need block > street >= 0, lots >= 1, storey > 0");
@@ -151,7 +151,7 @@ HeightField city_blocks(const TerrainGrid& grid, const CityParams& p) {
   });
 }
 
-HeightField procedural_scene(std::string_view name, const TerrainGrid& grid, std::uint64_t seed) {
+data::HeightField procedural_scene(std::string_view name, const TerrainGrid& grid, std::uint64_t seed) {
   if (name == "mountains") {
     MountainParams p;
     p.seed = seed;

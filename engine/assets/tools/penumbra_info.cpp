@@ -23,7 +23,7 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-void print_environment(const assets::EnvironmentMap& m, double ms) {
+void print_environment(const data::EnvironmentMap& m, double ms) {
   std::printf("environment map  %s\n  size        %d x %d texels, linear RGB\n", m.source.c_str(),
               m.width, m.height);
   float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
@@ -63,7 +63,7 @@ void print_model(const assets::Model& m, double ms) {
   std::printf("  loaded in   %.2f ms\n", ms);
 }
 
-void print_heights(const assets::HeightField& f, double ms) {
+void print_heights(const data::HeightField& f, double ms) {
   const auto [lo, hi] = std::minmax_element(f.heights.begin(), f.heights.end());
   double mean = 0;
   for (float h : f.heights) mean += h;
@@ -93,10 +93,10 @@ int main(int argc, char** argv) {
       const assets::Model m = assets::load_gltf(path);
       print_model(m, ms_since(t0));
     } else if (ext == ".pgm" || (ext == ".exr" && assets::exr_channel_count(path) == 1)) {
-      const assets::HeightField f = assets::load_height_field(path);
+      const data::HeightField f = assets::load_height_field(path);
       print_heights(f, ms_since(t0));
     } else if (ext == ".exr") {
-      const assets::EnvironmentMap m = assets::load_environment_map(path);
+      const data::EnvironmentMap m = assets::load_environment_map(path);
       print_environment(m, ms_since(t0));
     } else {
       std::fprintf(stderr, "%s: unknown file type (expected .exr, .gltf, .glb or .pgm)\n",

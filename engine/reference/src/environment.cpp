@@ -9,7 +9,7 @@
 namespace penumbra::reference {
 namespace {
 
-[[noreturn]] void fail(const assets::EnvironmentMap& map, const std::string& why) {
+[[noreturn]] void fail(const data::EnvironmentMap& map, const std::string& why) {
   throw std::invalid_argument("reference: environment map \"" + map.source + "\": " + why);
 }
 
@@ -25,7 +25,7 @@ int invert(const double* cdf, int lo, int hi, double u, double& remainder) {
 
 }  // namespace
 
-EnvironmentSampler::EnvironmentSampler(const assets::EnvironmentMap& map, float rotation_z)
+EnvironmentSampler::EnvironmentSampler(const data::EnvironmentMap& map, float rotation_z)
     : width_(map.width), height_(map.height) {
   if (map.width <= 0 || map.height <= 0) {
     fail(map, "size " + std::to_string(map.width) + "x" + std::to_string(map.height) +

@@ -11,7 +11,7 @@
 namespace penumbra::reference {
 
 std::vector<Receiver> height_field_receivers(const HeightFieldInstance& placed) {
-  const assets::HeightField& f = placed.field;
+  const data::HeightField& f = placed.field;
   if (f.width < 2 || f.height < 2 ||
       f.heights.size() != static_cast<std::size_t>(f.width) * f.height || !(f.cell_size > 0)) {
     throw std::invalid_argument(

@@ -36,7 +36,7 @@ MeshPass::MeshPass(Device& device, VkFormat color_format, VkFormat depth_format)
 }
 
 MeshPass::GpuMesh MeshPass::upload(FrameContext& ctx,
-                                   const std::shared_ptr<const assets::MeshData>& mesh) {
+                                   const std::shared_ptr<const data::MeshData>& mesh) {
   GpuMesh g;
   g.source = mesh;
   const std::size_t n = mesh->positions.size();

@@ -88,7 +88,7 @@ float TerrainBintree::triangle_error(const Triangle& t) const {
   return static_cast<float>(worst);
 }
 
-void TerrainBintree::build(const assets::HeightField& field) {
+void TerrainBintree::build(const data::HeightField& field) {
   size_ = depth_ = 0;
   error_.clear();
   radius_.clear();

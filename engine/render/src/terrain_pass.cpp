@@ -23,7 +23,7 @@ struct Push {
   std::int32_t grid[4];    // samples along x, along y; unused
 };
 
-bool drawable(const std::shared_ptr<const assets::HeightField>& f) {
+bool drawable(const std::shared_ptr<const data::HeightField>& f) {
   return f && f->width >= 2 && f->height >= 2 &&
          f->heights.size() >= static_cast<std::size_t>(f->width) * f->height;
 }
@@ -95,7 +95,7 @@ TerrainPass::TerrainPass(Device& device, VkFormat color_format, VkFormat depth_f
   });
 }
 
-void TerrainPass::upload_heights(FrameContext& ctx, const assets::HeightField& f) {
+void TerrainPass::upload_heights(FrameContext& ctx, const data::HeightField& f) {
   const VkDeviceSize bytes = static_cast<VkDeviceSize>(f.width) * f.height * sizeof(float);
   bintree_.build(f);
   if (f.width != grid_w_ || f.height != grid_h_) {

@@ -34,11 +34,11 @@ void emplace_render_resources(ecs::World& world) {
 }
 
 namespace {
-std::shared_ptr<const assets::HeightField> scaled_heights(const Terrain& t,
+std::shared_ptr<const data::HeightField> scaled_heights(const Terrain& t,
                                                           ScaledHeightsCache* cache) {
   if (t.height_scale == 1.0f || !t.heights) return t.heights;
   if (cache && cache->source == t.heights && cache->scale == t.height_scale) return cache->scaled;
-  auto f = std::make_shared<assets::HeightField>(*t.heights);
+  auto f = std::make_shared<data::HeightField>(*t.heights);
   for (float& h : f->heights) h *= t.height_scale;
   if (cache) *cache = {t.heights, t.height_scale, f};
   return f;

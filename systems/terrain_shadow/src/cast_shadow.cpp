@@ -10,7 +10,7 @@
 
 namespace penumbra::terrain_shadow {
 
-std::vector<float> point_horizons(const assets::HeightField& field, float height_scale,
+std::vector<float> point_horizons(const data::HeightField& field, float height_scale,
                                   const glm::vec3& point, int azimuths) {
   HorizonParams p;
   p.azimuths = azimuths;
@@ -28,14 +28,14 @@ std::vector<float> point_horizons(const assets::HeightField& field, float height
 }
 
 template <int N>
-sh::Coeffs<N> cast_shadow_log_visibility(const assets::HeightField& field, float height_scale,
+sh::Coeffs<N> cast_shadow_log_visibility(const data::HeightField& field, float height_scale,
                                          const glm::vec3& point, const LogWedge<N>& wedges) {
   const std::vector<float> a = point_horizons(field, height_scale, point, wedges.azimuths());
   return wedges.log_visibility(a.data());
 }
 
 template <int N>
-sh::Coeffs<N> cast_shadow_visibility(const assets::HeightField& field, float height_scale,
+sh::Coeffs<N> cast_shadow_visibility(const data::HeightField& field, float height_scale,
                                      const glm::vec3& point, const WedgeTable<N>& sphere) {
   if (sphere.domain() != WedgeDomain::kSphere)
     throw std::invalid_argument("cast_shadow_visibility needs a kSphere wedge table");
@@ -44,9 +44,9 @@ sh::Coeffs<N> cast_shadow_visibility(const assets::HeightField& field, float hei
 }
 
 #define PENUMBRA_CAST_SHADOW(N)                                                               \
-  template sh::Coeffs<N> cast_shadow_log_visibility<N>(const assets::HeightField&, float,     \
+  template sh::Coeffs<N> cast_shadow_log_visibility<N>(const data::HeightField&, float,     \
                                                        const glm::vec3&, const LogWedge<N>&); \
-  template sh::Coeffs<N> cast_shadow_visibility<N>(const assets::HeightField&, float,         \
+  template sh::Coeffs<N> cast_shadow_visibility<N>(const data::HeightField&, float,         \
                                                    const glm::vec3&, const WedgeTable<N>&);
 PENUMBRA_CAST_SHADOW(3)
 PENUMBRA_CAST_SHADOW(4)

@@ -78,7 +78,7 @@ void axpy(float* __restrict dst, const float* __restrict src, float w, int n) {
 
 }  // namespace
 
-void HeightPyramid::build(const assets::HeightField& field, float height_scale,
+void HeightPyramid::build(const data::HeightField& field, float height_scale,
                           const PyramidParams& params) {
   HorizonParams hp;
   hp.height_scale = height_scale;

@@ -6,7 +6,7 @@
 
 namespace penumbra::terrain_shadow {
 
-void validate_horizon_input(const assets::HeightField& field, const HorizonParams& params,
+void validate_horizon_input(const data::HeightField& field, const HorizonParams& params,
                             const TexelRect& region) {
   const std::string name = field.source.empty() ? std::string("height field") : field.source;
   auto fail = [&](const std::string& why) { throw std::invalid_argument(name + ": " + why); };

@@ -46,7 +46,7 @@ struct Scratch {
 // One azimuth over the region: sweep every line that passes through it, scatter the line
 // samples' horizons onto the texels between lines (weights by minor distance) and write them
 // to `plane` (region-sized, row-major in x, y).
-void sweep_azimuth(const assets::HeightField& f, const HorizonParams& p, const TexelRect& r, int k,
+void sweep_azimuth(const data::HeightField& f, const HorizonParams& p, const TexelRect& r, int k,
                    Scratch& sc, float* plane) {
   const detail::AzimuthFrame frame(f, detail::azimuth_angle(k, p.azimuths));
   // Region in (major, minor) coordinates, half-open.
@@ -147,7 +147,7 @@ void sweep_azimuth(const assets::HeightField& f, const HorizonParams& p, const T
     }
 }
 
-void prepare_output(const assets::HeightField& f, const HorizonParams& p, HorizonGrid& out) {
+void prepare_output(const data::HeightField& f, const HorizonParams& p, HorizonGrid& out) {
   if (out.width != f.width || out.height != f.height || out.azimuths != p.azimuths)
     out.resize(f.width, f.height, p.azimuths);
 }
@@ -159,7 +159,7 @@ namespace {
 // kLanes: eight lines per AVX2 step (sweep_lanes.h); kScalar: one line at a time.
 enum class Kernel { kScalar, kLanes };
 
-void sweep(const assets::HeightField& field, const HorizonParams& params, const TexelRect& region,
+void sweep(const data::HeightField& field, const HorizonParams& params, const TexelRect& region,
            HorizonGrid& out, Kernel kernel) {
   validate_horizon_input(field, params, region);
   if (params.limit_to_point)
@@ -206,12 +206,12 @@ void sweep(const assets::HeightField& field, const HorizonParams& params, const 
 
 }  // namespace
 
-void sweep_horizons(const assets::HeightField& field, const HorizonParams& params,
+void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out) {
   sweep(field, params, region, out, Kernel::kLanes);
 }
 
-std::size_t sweep_horizons_through(const assets::HeightField& field, const HorizonParams& params,
+std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
                                    const TexelRect& edited, HorizonGrid& out,
                                    std::vector<unsigned char>& changed) {
   validate_horizon_input(field, params, edited);
@@ -246,7 +246,7 @@ std::size_t sweep_horizons_through(const assets::HeightField& field, const Horiz
 #endif
 }
 
-void sweep_horizons_scalar(const assets::HeightField& field, const HorizonParams& params,
+void sweep_horizons_scalar(const data::HeightField& field, const HorizonParams& params,
                            const TexelRect& region, HorizonGrid& out) {
   sweep(field, params, region, out, Kernel::kScalar);
 }
@@ -255,7 +255,7 @@ namespace {
 
 // Largest elevation slope seen from (u_start, offset + slope * u_start) at `start_height` along
 // the frame's direction, over grid-line samples within max_distance; false if there are none.
-bool line_slope(const assets::HeightField& field, float scale, const detail::AzimuthFrame& frame,
+bool line_slope(const data::HeightField& field, float scale, const detail::AzimuthFrame& frame,
                 double offset, double u_start, float start_height, float max_distance,
                 float& best) {
   int u = frame.step > 0 ? static_cast<int>(std::floor(u_start)) + 1
@@ -276,7 +276,7 @@ bool line_slope(const assets::HeightField& field, float scale, const detail::Azi
 
 }  // namespace
 
-float ray_horizon(const assets::HeightField& field, float height_scale, glm::vec2 start,
+float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
                   float start_height, float phi, float max_distance, bool clamp_at_zero) {
   const detail::AzimuthFrame frame(field, phi);
   const double us = frame.x_major ? start.x : start.y, bs = frame.x_major ? start.y : start.x;
@@ -286,7 +286,7 @@ float ray_horizon(const assets::HeightField& field, float height_scale, glm::vec
   return to_angle(best, any, clamp_at_zero);
 }
 
-float sweep_line_horizon(const assets::HeightField& field, const HorizonParams& params, int x,
+float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x,
                          int y, int k) {
   float limit = std::numeric_limits<float>::infinity();
   if (params.limit_to_point) {
@@ -314,7 +314,7 @@ float sweep_line_horizon(const assets::HeightField& field, const HorizonParams& 
   return weight > 0 ? acc / weight : 0.0f;
 }
 
-void brute_force_horizons(const assets::HeightField& field, const HorizonParams& params,
+void brute_force_horizons(const data::HeightField& field, const HorizonParams& params,
                           const TexelRect& region, HorizonGrid& out, BruteForceSampling sampling) {
   validate_horizon_input(field, params, region);
   prepare_output(field, params, out);

@@ -67,7 +67,7 @@ void RadialHorizonSweep::limit_lines(Side& side, std::span<const TexelRect> regi
   }
 }
 
-void RadialHorizonSweep::run(const assets::HeightField& f, float height_scale, glm::vec2 foot,
+void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm::vec2 foot,
                              float reach, std::span<const TexelRect> regions) {
   field_ = &f;
   height_scale_ = height_scale;

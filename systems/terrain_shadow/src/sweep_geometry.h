@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstddef>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::terrain_shadow::detail {
 
@@ -18,7 +18,7 @@ struct AzimuthFrame {
   float metres_per_step = 1;  // plane distance of one major step
   int major_size = 0, minor_size = 0;
 
-  AzimuthFrame(const assets::HeightField& f, double phi) {
+  AzimuthFrame(const data::HeightField& f, double phi) {
     const double dx = std::cos(phi), dy = std::sin(phi);
     x_major = std::abs(dx) >= std::abs(dy);
     const double major = x_major ? dx : dy, minor = x_major ? dy : dx;
@@ -33,7 +33,7 @@ struct AzimuthFrame {
 
   // Scaled terrain height at major coordinate u on the line b = offset + slope * u, or false
   // when that point is outside the field.
-  bool height_at(const assets::HeightField& f, float scale, double offset, int u, double& b,
+  bool height_at(const data::HeightField& f, float scale, double offset, int u, double& b,
                  float& h) const {
     b = offset + slope * u;
     if (b < 0 || b > minor_size - 1) return false;

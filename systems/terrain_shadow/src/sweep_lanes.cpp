@@ -21,7 +21,7 @@ constexpr int kAccPad = 9;  // accumulator slots either side of the region's min
 
 }  // namespace
 
-LaneFields::LaneFields(const assets::HeightField& f)
+LaneFields::LaneFields(const data::HeightField& f)
     : stride_x(f.height + 2 * kPad + 1), stride_y(f.width + 2 * kPad + 1) {
   x_major.assign(static_cast<std::size_t>(f.width) * stride_x, 0.0f);
   y_major.assign(static_cast<std::size_t>(f.height) * stride_y, 0.0f);
@@ -42,7 +42,7 @@ struct Sweep {
   bool clamp;
   float scale;
 
-  Sweep(const assets::HeightField& f, const LaneFields& fields, const HorizonParams& p, int k)
+  Sweep(const data::HeightField& f, const LaneFields& fields, const HorizonParams& p, int k)
       : frame(f, azimuth_angle(k, p.azimuths)),
         heights(frame.x_major ? fields.x_major.data() : fields.y_major.data()),
         stride(frame.x_major ? fields.stride_x : fields.stride_y),
@@ -193,7 +193,7 @@ void scatter(LaneScratch& sc, std::size_t records, int u0, int v0, int v1, int r
 
 }  // namespace
 
-void sweep_azimuth_lanes(const assets::HeightField& f, const LaneFields& fields,
+void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
                          const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
                          float* plane) {
   const Sweep sw(f, fields, p, k);
@@ -221,7 +221,7 @@ void sweep_azimuth_lanes(const assets::HeightField& f, const LaneFields& fields,
     }
 }
 
-std::size_t sweep_azimuth_lines_through(const assets::HeightField& f, const LaneFields& fields,
+std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed) {
   const Sweep sw(f, fields, p, k);

@@ -21,7 +21,7 @@ namespace penumbra::terrain_shadow::detail {
 struct LaneFields {
   std::vector<float> x_major, y_major;
   int stride_x = 0, stride_y = 0;
-  explicit LaneFields(const assets::HeightField& f);
+  explicit LaneFields(const data::HeightField& f);
 };
 
 struct LaneScratch {
@@ -35,7 +35,7 @@ struct LaneScratch {
 
 // Azimuth k of the region into `plane` (region-sized, row-major in x, y): the contract of the
 // scalar sweep_azimuth in horizon_sweep.cpp.
-void sweep_azimuth_lanes(const assets::HeightField& f, const LaneFields& fields,
+void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
                          const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
                          float* plane);
 
@@ -43,7 +43,7 @@ void sweep_azimuth_lanes(const assets::HeightField& f, const LaneFields& fields,
 // exactly as a full sweep_horizons would, writing `out` (sized to the field) and setting
 // changed[y * width + x] = 1 where a value changed (relaxed atomic stores: several azimuths
 // may run concurrently). Returns the number of (texel, azimuth) pairs recomputed.
-std::size_t sweep_azimuth_lines_through(const assets::HeightField& f, const LaneFields& fields,
+std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed);
 

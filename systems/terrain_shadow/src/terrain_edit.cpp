@@ -7,7 +7,7 @@
 
 namespace penumbra::terrain_shadow {
 
-EditResult apply_brush(std::shared_ptr<const assets::HeightField> field, const Brush& b) {
+EditResult apply_brush(std::shared_ptr<const data::HeightField> field, const Brush& b) {
   if (!field) throw std::invalid_argument("brush: no height field");
   const std::string name = field->source.empty() ? "height field" : field->source;
   if (!std::isfinite(b.centre.x) || !std::isfinite(b.centre.y) || !std::isfinite(b.strength))
@@ -18,14 +18,14 @@ EditResult apply_brush(std::shared_ptr<const assets::HeightField> field, const B
   if (b.kind == BrushKind::kSmooth && (b.strength < 0 || b.strength > 1))
     throw std::invalid_argument(name + ": smooth amount " + std::to_string(b.strength) +
                                 " must be in [0, 1]");
-  const assets::HeightField& f = *field;
+  const data::HeightField& f = *field;
   const float cs = f.cell_size;
   TexelRect r{std::max(static_cast<int>(std::ceil((b.centre.x - b.radius) / cs)), 0),
               std::max(static_cast<int>(std::ceil((b.centre.y - b.radius) / cs)), 0),
               std::min(static_cast<int>(std::floor((b.centre.x + b.radius) / cs)) + 1, f.width),
               std::min(static_cast<int>(std::floor((b.centre.y + b.radius) / cs)) + 1, f.height)};
   if (r.empty()) return {std::move(field), {}};
-  auto out = std::make_shared<assets::HeightField>(f);
+  auto out = std::make_shared<data::HeightField>(f);
   for (int y = r.y0; y < r.y1; ++y)
     for (int x = r.x0; x < r.x1; ++x) {
       const float dx = x * cs - b.centre.x, dy = y * cs - b.centre.y;

@@ -82,7 +82,7 @@ void update_lights(ecs::World& w) {
                                                         TerrainShadowState& x) {
     const Terrain* t = &terrain;
     if (!x.shadowing->ready()) return;
-    const assets::HeightField& f = x.shadowing->field();
+    const data::HeightField& f = x.shadowing->field();
     const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
     if (x.refresh_visibility != x.visibility_stamp || x.refresh_origin != t->origin) {
       // New terrain or an edit: every tile again (keeping the old values until it comes).

@@ -94,7 +94,7 @@ HorizonParams env_params(const TerrainShadowConfig& c, float scale) {
 }
 
 // Horizons of `region` by `method` (the pyramid must be built for kMarch).
-void compute_horizons(HorizonMethod method, const assets::HeightField& f,
+void compute_horizons(HorizonMethod method, const data::HeightField& f,
                       const HeightPyramid& pyramid, const HorizonParams& p,
                       const MarchParams& march, const TexelRect& region, HorizonGrid& out) {
   switch (method) {
@@ -133,7 +133,7 @@ glm::vec3 TerrainShadowing<N>::position(int x, int y) const {
 
 template <int N>
 void TerrainShadowing<N>::compute_normals(const TexelRect& r) {
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   // Central differences, one-sided at the border (as reference::height_field_receivers).
   tbb::parallel_for(r.y0, r.y1, [&](int y) {
     for (int x = r.x0; x < r.x1; ++x) {
@@ -162,14 +162,14 @@ void TerrainShadowing<N>::compute_transfer_rows(const std::vector<unsigned char>
 }
 
 template <int N>
-UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const assets::HeightField> field,
+UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const data::HeightField> field,
                                         float height_scale) {
   if (!field) throw std::invalid_argument("terrain shadowing: no height field");
   const HorizonParams p = env_params(config_, height_scale);
   validate_horizon_input(*field, p, TexelRect::all(*field));
   field_ = std::move(field);
   height_scale_ = height_scale;
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
   normals_.resize(n);
   transfer_.resize(n);
@@ -189,7 +189,7 @@ UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const assets::HeightFiel
 }
 
 template <int N>
-UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const assets::HeightField> field,
+UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightField> field,
                                              float height_scale, TexelRect edited) {
   if (!field_ || !field || field->width != field_->width || field->height != field_->height ||
       height_scale != height_scale_ || config_.method != HorizonMethod::kSweep)
@@ -202,7 +202,7 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const assets::Heigh
   validate_horizon_input(*field, p, edited);
   field_ = std::move(field);
   if (edited.empty()) return {};
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   const int w = f.width, h = f.height;
 
   // Line samples interpolate between neighbouring rows, so the edit reaches one texel further;
@@ -253,7 +253,7 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
                                               const glm::vec3& radiance,
                                               std::vector<glm::vec3>& irradiance) {
   validate_light(centre, radius, radiance);
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   irradiance.resize(static_cast<std::size_t>(f.width) * f.height, glm::vec3(0.0f));
   if (radius == 0) return;
   std::vector<Span> rows(static_cast<std::size_t>(f.height));
@@ -271,7 +271,7 @@ void TerrainShadowing<N>::add_spherical_light(const glm::vec3& centre, float rad
                                               std::vector<glm::vec3>& irradiance,
                                               std::span<const TexelRect> regions) {
   validate_light(centre, radius, radiance);
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   if (irradiance.size() != static_cast<std::size_t>(f.width) * f.height)
     throw std::invalid_argument("add_spherical_light: irradiance needs one value per texel");
   if (radius == 0) return;
@@ -312,7 +312,7 @@ void TerrainShadowing<N>::add_sh_light(const glm::vec3& centre, float radius,
                                        const glm::vec3& radiance,
                                        std::vector<glm::vec3>& irradiance,
                                        const std::vector<Span>& spans) {
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   HorizonParams p;
   p.azimuths = config_.light_azimuths;
   p.height_scale = height_scale_;
@@ -355,7 +355,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                                         std::vector<glm::vec3>& irradiance,
                                         const std::vector<Span>& spans, float reach,
                                         std::span<const TexelRect> regions) {
-  const assets::HeightField& f = *field_;
+  const data::HeightField& f = *field_;
   const CapHorizons method = config_.cap_method;
   std::optional<LightHorizonMarch> marcher;
   if (method == CapHorizons::kMarch) marcher.emplace(pyramid_, config_.march);

@@ -8,14 +8,14 @@
 
 #include "penumbra/sh/basis.h"
 
-namespace penumbra::assets {
-struct EnvironmentMap;  // penumbra/assets/environment_map.h
+namespace penumbra::data {
+struct EnvironmentMap;  // penumbra/data/environment_map.h
 }
 
 namespace penumbra::components {
 
 struct EnvironmentLight {
-  std::shared_ptr<const assets::EnvironmentMap> map;  // may be null when only SH is known
+  std::shared_ptr<const data::EnvironmentMap> map;  // may be null when only SH is known
   sh::CoeffsRgb<sh::kDefaultBands> radiance{};        // SH of the map's radiance, unrotated
   float rotation_z = 0;  // radians, counter-clockwise about +z (the map's world orientation)
   std::uint64_t version = 0;

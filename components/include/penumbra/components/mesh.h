@@ -5,15 +5,15 @@
 
 #include <glm/vec4.hpp>
 
-namespace penumbra::assets {
-struct MeshData;  // penumbra/assets/mesh.h
+namespace penumbra::data {
+struct MeshData;  // penumbra/data/mesh.h
 }
 
 namespace penumbra::components {
 
 // Many instances share one MeshData; nothing writes through it.
 struct MeshInstance {
-  std::shared_ptr<const assets::MeshData> mesh;
+  std::shared_ptr<const data::MeshData> mesh;
 };
 
 // Linear RGBA (glTF pbrMetallicRoughness.baseColorFactor).

@@ -8,8 +8,8 @@
 
 #include <glm/vec3.hpp>
 
-namespace penumbra::assets {
-struct HeightField;  // penumbra/assets/height_field.h
+namespace penumbra::data {
+struct HeightField;  // penumbra/data/height_field.h
 }
 
 namespace penumbra::components {
@@ -20,7 +20,7 @@ struct SampleRect {
 };
 
 struct Terrain {
-  std::shared_ptr<const assets::HeightField> heights;
+  std::shared_ptr<const data::HeightField> heights;
   glm::vec3 origin{0.0f};    // world position of sample (0, 0) at height 0
   glm::vec3 albedo{0.5f};    // linear
   float height_scale = 1.0f;  // world height = origin.z + height_scale * heights->at(x, y)

@@ -10,8 +10,8 @@
 #include <cstddef>
 #include <filesystem>
 
-#include "penumbra/assets/environment_map.h"
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::assets {
 
@@ -27,10 +27,10 @@ int exr_channel_count(const std::filesystem::path& path);
 // negative value is set to 0 and the positive values of the same channel in its 8x8 block are
 // scaled so the block's solid-angle-weighted sum is unchanged (zero if it was <= 0); counted in
 // EnvironmentMap::clamped_values.
-EnvironmentMap load_environment_map(const std::filesystem::path& path);
+data::EnvironmentMap load_environment_map(const std::filesystem::path& path);
 
 // Exactly one channel, whatever its name. Heights are min_elevation + elevation_scale * value,
 // with the cell size from a JSON sidecar next to the file (heightmap.h), else 1 m and identity.
-HeightField load_height_field_exr(const std::filesystem::path& path);
+data::HeightField load_height_field_exr(const std::filesystem::path& path);
 
 }  // namespace penumbra::assets

@@ -22,7 +22,7 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "penumbra/assets/mesh.h"
+#include "penumbra/data/mesh.h"
 
 namespace penumbra::assets {
 
@@ -38,7 +38,7 @@ struct Model {
 
   // One MeshData per triangle primitive ("<mesh name>/<primitive>"), immutable, shared by all
   // instances; positions and normals stay in glTF object space.
-  std::vector<std::shared_ptr<const MeshData>> meshes;
+  std::vector<std::shared_ptr<const data::MeshData>> meshes;
   std::vector<Instance> instances;  // one per (node of the scene, primitive of its mesh)
   std::size_t gltf_mesh_count = 0;
   std::size_t node_count = 0;

@@ -31,7 +31,7 @@
 #include <string_view>
 #include <vector>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::assets {
 
@@ -60,16 +60,16 @@ HeightSidecar parse_height_sidecar(std::string_view json, const std::string& nam
 
 // Applies a sidecar to samples: checks dimensions, maps values to metres, rejects NaN/inf and
 // heights above max_elevation, resamples to square cells. `name` is used in error messages.
-HeightField make_height_field(int width, int height, std::span<const float> values,
+data::HeightField make_height_field(int width, int height, std::span<const float> values,
                               const HeightSidecar& sidecar, const std::string& name);
 
 // Reads "<path without extension>.json" if it exists (empty sidecar otherwise).
 HeightSidecar load_height_sidecar(const std::filesystem::path& image_path);
 
 // A .pgm file and its sidecar.
-HeightField load_height_field_pgm(const std::filesystem::path& path);
+data::HeightField load_height_field_pgm(const std::filesystem::path& path);
 
 // By extension: .pgm or .exr (load_height_field_exr in exr.h).
-HeightField load_height_field(const std::filesystem::path& path);
+data::HeightField load_height_field(const std::filesystem::path& path);
 
 }  // namespace penumbra::assets

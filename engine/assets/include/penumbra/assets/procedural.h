@@ -12,7 +12,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::assets {
 
@@ -67,15 +67,15 @@ struct CityParams {
   std::uint64_t seed = 1;
 };
 
-HeightField fbm_mountains(const TerrainGrid& grid, const MountainParams& p = {});
-HeightField cones(const TerrainGrid& grid, const ConesParams& p = {});
-HeightField sine_grating(const TerrainGrid& grid, const SineGratingParams& p = {});
-HeightField egg_tray(const TerrainGrid& grid, const EggTrayParams& p = {});
-HeightField city_blocks(const TerrainGrid& grid, const CityParams& p = {});
+data::HeightField fbm_mountains(const TerrainGrid& grid, const MountainParams& p = {});
+data::HeightField cones(const TerrainGrid& grid, const ConesParams& p = {});
+data::HeightField sine_grating(const TerrainGrid& grid, const SineGratingParams& p = {});
+data::HeightField egg_tray(const TerrainGrid& grid, const EggTrayParams& p = {});
+data::HeightField city_blocks(const TerrainGrid& grid, const CityParams& p = {});
 
 // By name ("mountains", "cones", "sine_grating", "egg_tray", "city") with default parameters
 // and `seed`; throws std::invalid_argument naming an unknown scene.
-HeightField procedural_scene(std::string_view name, const TerrainGrid& grid,
+data::HeightField procedural_scene(std::string_view name, const TerrainGrid& grid,
                              std::uint64_t seed = 1);
 
 }  // namespace penumbra::assets

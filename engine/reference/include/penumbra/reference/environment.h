@@ -31,7 +31,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/environment_map.h"
+#include "penumbra/data/environment_map.h"
 
 namespace penumbra::reference {
 
@@ -42,7 +42,7 @@ class EnvironmentSampler {
   };
 
  public:
-  EnvironmentSampler(const assets::EnvironmentMap& map, float rotation_z);
+  EnvironmentSampler(const data::EnvironmentMap& map, float rotation_z);
 
   struct Lookup {
     glm::vec3 radiance;  // W / (m^2 sr), per channel

@@ -37,25 +37,25 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/environment_map.h"
-#include "penumbra/assets/height_field.h"
-#include "penumbra/assets/mesh.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
+#include "penumbra/data/mesh.h"
 #include "penumbra/reference/environment.h"
 
 namespace penumbra::reference {
 
 struct EnvironmentLight {
-  assets::EnvironmentMap map;
+  data::EnvironmentMap map;
   float rotation_z = 0;  // radians, counter-clockwise about +z
 };
 
 struct HeightFieldInstance {
-  assets::HeightField field;
+  data::HeightField field;
   glm::vec3 origin{0.0f};  // world position of sample (0, 0) at height 0
 };
 
 struct MeshInstance {
-  assets::MeshData mesh;
+  data::MeshData mesh;
   glm::mat4 transform{1.0f};  // object to world
 };
 

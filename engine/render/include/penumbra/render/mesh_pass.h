@@ -36,7 +36,7 @@ class MeshPass {
 
  private:
   struct GpuMesh {
-    std::shared_ptr<const assets::MeshData> source;
+    std::shared_ptr<const data::MeshData> source;
     Buffer vertices;
     Buffer indices;
     std::uint32_t index_count = 0;
@@ -49,13 +49,13 @@ class MeshPass {
     const MeshDraw* draw;
     Slice lighting;  // buffer == VK_NULL_HANDLE: none
   };
-  GpuMesh upload(FrameContext& ctx, const std::shared_ptr<const assets::MeshData>& mesh);
+  GpuMesh upload(FrameContext& ctx, const std::shared_ptr<const data::MeshData>& mesh);
 
   Device* device_;
   PipelineLayout layout_;
   Unique<VkPipeline> preview_;  // variant 0: no vertex lighting
   Unique<VkPipeline> lit_;      // variant 1: vertex lighting
-  std::unordered_map<const assets::MeshData*, GpuMesh> cache_;
+  std::unordered_map<const data::MeshData*, GpuMesh> cache_;
   std::vector<Draw> draws_;
   std::vector<float> scratch_;
   std::size_t rejected_ = 0;

@@ -23,9 +23,9 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/environment_map.h"
-#include "penumbra/assets/height_field.h"
-#include "penumbra/assets/mesh.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
+#include "penumbra/data/mesh.h"
 
 namespace penumbra::render {
 
@@ -39,7 +39,7 @@ struct CameraView {
 };
 
 struct TerrainDraw {
-  std::shared_ptr<const assets::HeightField> heights;  // null or < 2x2 samples: no terrain
+  std::shared_ptr<const data::HeightField> heights;  // null or < 2x2 samples: no terrain
   glm::vec3 origin{0.0f};  // world position of sample (0, 0) at height 0
   glm::vec3 albedo{0.5f};  // the shaded colour is albedo * lighting
   // Per-texel lighting: lighting_width * lighting_height linear RGB values, row-major (row =
@@ -52,7 +52,7 @@ struct TerrainDraw {
 };
 
 struct MeshDraw {
-  std::shared_ptr<const assets::MeshData> mesh;  // positions, normals (optional), indices
+  std::shared_ptr<const data::MeshData> mesh;  // positions, normals (optional), indices
   glm::mat4 transform{1.0f};                     // object -> world
   glm::vec3 albedo{1.0f};                        // linear; the shaded colour is albedo * lighting
   // Per-vertex lighting, one linear RGB value per mesh position. Null: the mesh pass shades with
@@ -78,7 +78,7 @@ struct PointDraw {
 struct Sky {
   // Equirectangular map (row 0 = zenith, azimuth from +x towards +y: sh/projection.h); null:
   // a procedural sky from the colours below.
-  std::shared_ptr<const assets::EnvironmentMap> environment;
+  std::shared_ptr<const data::EnvironmentMap> environment;
   float environment_intensity = 1.0f;
   // Radians counter-clockwise about +z: world radiance L(R_z(rotation) w) = map(w), as
   // components::EnvironmentLight and reference::EnvironmentLight.

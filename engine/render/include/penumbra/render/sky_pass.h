@@ -31,7 +31,7 @@ class SkyPass {
   Unique<VkSampler> sampler_;
   Image placeholder_;
   Image environment_;
-  std::shared_ptr<const assets::EnvironmentMap> uploaded_;
+  std::shared_ptr<const data::EnvironmentMap> uploaded_;
 };
 
 }  // namespace penumbra::render

@@ -33,7 +33,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::render {
 
@@ -50,7 +50,7 @@ class TerrainBintree {
 
   // Errors and bounds of `field`. Fields smaller than 2 x 2 (or with too few heights) give an
   // empty mesh.
-  void build(const assets::HeightField& field);
+  void build(const data::HeightField& field);
   // Appends the mesh's triangles, three sample indices (y * width + x) each, counter-clockwise
   // seen from above; returns the number appended.
   std::size_t triangulate(const View& view, std::vector<std::uint32_t>& indices) const;

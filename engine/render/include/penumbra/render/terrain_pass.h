@@ -39,7 +39,7 @@ class TerrainPass {
   std::uint64_t triangles() const { return triangles_; }
 
  private:
-  void upload_heights(FrameContext& ctx, const assets::HeightField& field);
+  void upload_heights(FrameContext& ctx, const data::HeightField& field);
   void upload_lighting(FrameContext& ctx, const TerrainDraw& terrain);
 
   Device* device_;
@@ -54,7 +54,7 @@ class TerrainPass {
   std::vector<std::uint32_t> frame_indices_;  // this frame's draw, uploaded through the ring
   Image lighting_;
   int lit_w_ = 0, lit_h_ = 0;
-  std::shared_ptr<const assets::HeightField> heights_src_;
+  std::shared_ptr<const data::HeightField> heights_src_;
   std::shared_ptr<const std::vector<glm::vec3>> lighting_src_;
   std::vector<std::uint16_t> texels_;  // conversion scratch
   std::uint64_t triangles_ = 0;

@@ -19,7 +19,7 @@
 
 #include <memory>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/render/packet.h"
@@ -42,9 +42,9 @@ jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule);
 // A terrain's heights multiplied by its height_scale for the renderer (which draws heights as
 // they are), remade only when the heights or the scale change. The system keeps one.
 struct ScaledHeightsCache {
-  std::shared_ptr<const assets::HeightField> source;
+  std::shared_ptr<const data::HeightField> source;
   float scale = 1.0f;
-  std::shared_ptr<const assets::HeightField> scaled;
+  std::shared_ptr<const data::HeightField> scaled;
 };
 
 // What the system does, callable directly (tests, tools). Without a cache a scaled terrain is

@@ -16,7 +16,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/terrain_shadow/log_wedge.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
@@ -24,17 +24,17 @@
 namespace penumbra::terrain_shadow {
 
 // n_phi horizon elevations seen from `point` (metres, relative to sample (0, 0) at height 0).
-std::vector<float> point_horizons(const assets::HeightField& field, float height_scale,
+std::vector<float> point_horizons(const data::HeightField& field, float height_scale,
                                   const glm::vec3& point, int azimuths);
 
 // Log-SH visibility of the terrain from `point`; the table's azimuth count is used.
 template <int N>
-sh::Coeffs<N> cast_shadow_log_visibility(const assets::HeightField& field, float height_scale,
+sh::Coeffs<N> cast_shadow_log_visibility(const data::HeightField& field, float height_scale,
                                          const glm::vec3& point, const LogWedge<N>& wedges);
 
 // Primal SH visibility from `point` (a kSphere table).
 template <int N>
-sh::Coeffs<N> cast_shadow_visibility(const assets::HeightField& field, float height_scale,
+sh::Coeffs<N> cast_shadow_visibility(const data::HeightField& field, float height_scale,
                                      const glm::vec3& point, const WedgeTable<N>& sphere);
 
 }  // namespace penumbra::terrain_shadow

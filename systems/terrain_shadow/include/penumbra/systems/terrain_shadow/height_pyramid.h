@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::terrain_shadow {
 
@@ -33,7 +33,7 @@ class HeightPyramid {
   // Builds every level. Throws std::invalid_argument (naming field.source) on a field or
   // height_scale the horizon methods reject (horizon.h) or level_step outside [1, 16]. Reuses
   // its storage when rebuilt at the same size.
-  void build(const assets::HeightField& field, float height_scale, const PyramidParams& params);
+  void build(const data::HeightField& field, float height_scale, const PyramidParams& params);
 
   int levels() const { return levels_; }
   int width() const { return width_; }

@@ -21,7 +21,7 @@
 
 #include <glm/vec2.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 
 namespace penumbra::terrain_shadow {
 
@@ -34,7 +34,7 @@ struct TexelRect {
   bool empty() const { return width() == 0 || height() == 0; }
   std::size_t count() const { return static_cast<std::size_t>(width()) * height(); }
   bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
-  static TexelRect all(const assets::HeightField& f) { return {0, 0, f.width, f.height}; }
+  static TexelRect all(const data::HeightField& f) { return {0, 0, f.width, f.height}; }
 };
 
 struct HorizonParams {
@@ -68,7 +68,7 @@ struct HorizonGrid {
 // Throws std::invalid_argument naming the field (its `source`) for fewer than 2 x 2 samples, a
 // cell size <= 0 or non-finite, a non-finite height or height_scale, fewer than 3 azimuths, or
 // a region outside the field. Every horizon method calls it first.
-void validate_horizon_input(const assets::HeightField& field, const HorizonParams& params,
+void validate_horizon_input(const data::HeightField& field, const HorizonParams& params,
                             const TexelRect& region);
 // Its parameter and region checks alone, for a width x height field called `name` (methods
 // that see a derived structure rather than the field, e.g. the pyramid march).

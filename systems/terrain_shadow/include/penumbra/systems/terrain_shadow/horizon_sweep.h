@@ -29,7 +29,7 @@ namespace penumbra::terrain_shadow {
 // Environment horizons (limit_to_point must be empty: a distance limit has no hull form) for
 // the texels of `region`, written into `out` (resized to the whole field if its size differs).
 // Lines that do not pass through `region` are skipped.
-void sweep_horizons(const assets::HeightField& field, const HorizonParams& params,
+void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out);
 
 // The horizon seen from a plane position `start` (in cells, may be fractional) at height
@@ -38,7 +38,7 @@ void sweep_horizons(const assets::HeightField& field, const HorizonParams& param
 // (height - start_height) / distance over samples at distance > 0 and <= max_distance (metres,
 // in the plane). Samples on the ray's own start column are skipped. No samples in range:
 // -pi/2 (or 0 with clamp_at_zero).
-float ray_horizon(const assets::HeightField& field, float height_scale, glm::vec2 start,
+float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
                   float start_height, float phi, float max_distance, bool clamp_at_zero);
 
 // Brute force, O(width) per texel and azimuth, for tests and as the reference of the other
@@ -49,7 +49,7 @@ float ray_horizon(const assets::HeightField& field, float height_scale, glm::vec
 //    with the sweep's weights: what the sweep computes, without the hull, so the two must agree
 //    to float precision (the test of the hull; kTexelRays measures the line interpolation).
 enum class BruteForceSampling { kTexelRays, kSweepLines };
-void brute_force_horizons(const assets::HeightField& field, const HorizonParams& params,
+void brute_force_horizons(const data::HeightField& field, const HorizonParams& params,
                           const TexelRect& region, HorizonGrid& out,
                           BruteForceSampling sampling = BruteForceSampling::kTexelRays);
 
@@ -60,19 +60,19 @@ void brute_force_horizons(const assets::HeightField& field, const HorizonParams&
 // `out` must hold the field's previous horizons for the same params. Returns the number of
 // (texel, azimuth) pairs recomputed: about (edit size + 4) x (1 + |tan|) lines x the field's
 // length per azimuth, instead of the whole field. Without AVX2: a full sweep, compared.
-std::size_t sweep_horizons_through(const assets::HeightField& field, const HorizonParams& params,
+std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
                                    const TexelRect& edited, HorizonGrid& out,
                                    std::vector<unsigned char>& changed);
 
 // The same with the one-line-at-a-time kernel, whatever the build targets (sweep_horizons runs
 // eight lines per step on AVX2 lanes where available): for tests and benchmarks.
-void sweep_horizons_scalar(const assets::HeightField& field, const HorizonParams& params,
+void sweep_horizons_scalar(const data::HeightField& field, const HorizonParams& params,
                            const TexelRect& region, HorizonGrid& out);
 
 // One texel's horizon at azimuth k exactly as the sweep computes it (kSweepLines), without the
 // rest of the field: what an edit recomputes for the few (texel, azimuth) pairs it can change.
 // Inputs are not validated (call validate_horizon_input once).
-float sweep_line_horizon(const assets::HeightField& field, const HorizonParams& params, int x,
+float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x,
                          int y, int k);
 
 }  // namespace penumbra::terrain_shadow

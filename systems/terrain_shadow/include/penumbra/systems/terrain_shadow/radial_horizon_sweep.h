@@ -10,7 +10,7 @@
 
 #include <glm/vec2.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/systems/terrain_shadow/horizon.h"
 
 namespace penumbra::terrain_shadow {
@@ -43,7 +43,7 @@ class RadialHorizonSweep {
   // lines serving none are not swept (horizon() elsewhere is unspecified); those texels get the
   // same horizons, bit for bit. A light re-shading a quarter of the tiles sweeps about that
   // share of the line samples (light_refresh.h).
-  void run(const assets::HeightField& field, float height_scale, glm::vec2 foot,
+  void run(const data::HeightField& field, float height_scale, glm::vec2 foot,
            float reach = std::numeric_limits<float>::infinity(),
            std::span<const TexelRect> regions = {});
   // Elevation (radians) of the horizon of texel (x, y) towards the foot; -pi/2 when no terrain
@@ -63,7 +63,7 @@ class RadialHorizonSweep {
   // Side::line_end from the regions (run()).
   void limit_lines(Side& side, std::span<const TexelRect> regions) const;
   std::array<Side, 4> sides_;
-  const assets::HeightField* field_ = nullptr;
+  const data::HeightField* field_ = nullptr;
   float height_scale_ = 1;
   glm::vec2 foot_{0.0f};  // in cells
   bool foot_inside_ = true;

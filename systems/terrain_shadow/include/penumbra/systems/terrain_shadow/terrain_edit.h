@@ -13,7 +13,7 @@
 
 #include <glm/vec2.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/systems/terrain_shadow/horizon.h"
 
@@ -30,14 +30,14 @@ struct Brush {
 };
 
 struct EditResult {
-  std::shared_ptr<const assets::HeightField> field;  // the new heights
+  std::shared_ptr<const data::HeightField> field;  // the new heights
   TexelRect changed;                                 // samples that may differ (may be empty)
 };
 
 // Throws std::invalid_argument for a non-finite centre or strength, radius <= 0, or a smooth
 // amount outside [0, 1]. A brush entirely off the field changes nothing (empty rect, same
 // field pointer).
-EditResult apply_brush(std::shared_ptr<const assets::HeightField> field, const Brush& brush);
+EditResult apply_brush(std::shared_ptr<const data::HeightField> field, const Brush& brush);
 
 // On a Terrain component: centre in world xy (the terrain's origin is subtracted), heights in
 // world metres (divided by height_scale). Publishes the new field, bumps `version` and sets

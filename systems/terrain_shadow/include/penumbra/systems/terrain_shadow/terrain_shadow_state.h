@@ -24,7 +24,7 @@ inline constexpr int kSystemBands = sh::kDefaultBands;
 struct TerrainShadowState {
   // Shared with TerrainHorizons, which aliases its horizons and normals.
   std::shared_ptr<TerrainShadowing<kSystemBands>> shadowing;
-  const assets::HeightField* field = nullptr;  // identity of the field last processed
+  const data::HeightField* field = nullptr;  // identity of the field last processed
   std::uint64_t version = 0;
   std::vector<glm::vec3> light_irradiance;  // sum over lights, W/m^2
   std::uint64_t visibility_stamp = 0;       // bumped when transfer changed

@@ -35,7 +35,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "penumbra/assets/height_field.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/terrain_shadow/height_pyramid.h"
 #include "penumbra/systems/terrain_shadow/horizon.h"
@@ -117,14 +117,14 @@ class TerrainShadowing {
   // Full recompute for `field` (validated: NaN heights etc. throw std::invalid_argument naming
   // field->source). Keeps a reference to the field. Builds the height pyramid only when a
   // kMarch method needs it (the environment's, or the lights' of the chosen light_shading).
-  UpdateStats update(std::shared_ptr<const assets::HeightField> field, float height_scale);
+  UpdateStats update(std::shared_ptr<const data::HeightField> field, float height_scale);
   // `field` is the previous field with samples `edited` changed. Falls back to update() when
   // nothing was computed yet, the size or scale changed, or the method is not kSweep.
-  UpdateStats update_edit(std::shared_ptr<const assets::HeightField> field, float height_scale,
+  UpdateStats update_edit(std::shared_ptr<const data::HeightField> field, float height_scale,
                           TexelRect edited);
 
   bool ready() const { return field_ != nullptr; }
-  const assets::HeightField& field() const { return *field_; }
+  const data::HeightField& field() const { return *field_; }
   float height_scale() const { return height_scale_; }
   const HorizonGrid& horizons() const { return horizons_; }
   const std::vector<sh::Coeffs<N>>& transfer() const { return transfer_; }
@@ -166,7 +166,7 @@ class TerrainShadowing {
   TerrainShadowConfig config_;
   WedgeTable<N> hemisphere_;
   WedgeTable<N> sphere_;
-  std::shared_ptr<const assets::HeightField> field_;
+  std::shared_ptr<const data::HeightField> field_;
   float height_scale_ = 1;
   HeightPyramid pyramid_;
   bool pyramid_valid_ = false;

@@ -8,7 +8,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
-namespace penumbra::assets {
+namespace penumbra::data {
 
 struct MeshData {
   std::string name;
@@ -18,4 +18,4 @@ struct MeshData {
   glm::vec4 base_color{1, 1, 1, 1};    // linear RGBA (glTF pbrMetallicRoughness.baseColorFactor)
 };
 
-}  // namespace penumbra::assets
+}  // namespace penumbra::data

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::assets {
+namespace penumbra::data {
 
 struct HeightField {
   int width = 0;           // samples along x
@@ -39,4 +39,4 @@ inline HeightField crop(const HeightField& f, int x0, int y0, int w, int h) {
   return out;
 }
 
-}  // namespace penumbra::assets
+}  // namespace penumbra::data

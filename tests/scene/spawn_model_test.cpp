@@ -1,19 +1,27 @@
-#include "penumbra/assets/scene.h"
+#include "penumbra/scene/spawn_model.h"
 
 #include <gtest/gtest.h>
 
 #include "penumbra/components/mesh.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/assets/gltf.h"
+#include "penumbra/assets/load_error.h"
 #include "test_support.h"
 
-namespace penumbra::assets {
+namespace penumbra::scene {
 namespace {
+
+using assets::gltf_to_engine;
+using assets::load_gltf;
+using assets::LoadError;
+using assets::Model;
+namespace test = assets::test;
 
 using components::BaseColor;
 using components::MeshInstance;
 using components::Transform;
 
-TEST(Scene, BunnyBecomesOneEntity) {
+TEST(SpawnModel, BunnyBecomesOneEntity) {
   ecs::World world;
   const auto entities = load_gltf_into_world(test::shared_data() / "models" / "bunny.glb", world);
   ASSERT_EQ(entities.size(), 1u);
@@ -25,7 +33,7 @@ TEST(Scene, BunnyBecomesOneEntity) {
   EXPECT_EQ(world.get<Transform>(entities[0])->world, gltf_to_engine());
 }
 
-TEST(Scene, InstancesShareMeshDataAndQueriesSeeThem) {
+TEST(SpawnModel, InstancesShareMeshDataAndQueriesSeeThem) {
   const Model model =
       load_gltf(test::assimp_gltf2() / "2CylinderEngine-glTF-Binary" / "2CylinderEngine.glb");
   ecs::World world;
@@ -51,7 +59,7 @@ TEST(Scene, InstancesShareMeshDataAndQueriesSeeThem) {
       }());
 }
 
-TEST(Scene, FailedLoadLeavesTheWorldUnchanged) {
+TEST(SpawnModel, FailedLoadLeavesTheWorldUnchanged) {
   ecs::World world;
   EXPECT_THROW(
       load_gltf_into_world(test::assimp_gltf2() / "RecursiveNodes" / "RecursiveNodes.gltf", world),
@@ -61,4 +69,4 @@ TEST(Scene, FailedLoadLeavesTheWorldUnchanged) {
 }
 
 }  // namespace
-}  // namespace penumbra::assets
+}  // namespace penumbra::scene

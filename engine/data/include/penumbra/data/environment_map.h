@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace penumbra::assets {
+namespace penumbra::data {
 
 struct EnvironmentMap {
   int width = 0;
@@ -20,4 +20,4 @@ struct EnvironmentMap {
   }
 };
 
-}  // namespace penumbra::assets
+}  // namespace penumbra::data
