@@ -81,7 +81,7 @@ void populate_sample_scene(ecs::World& world, const SampleSceneConfig& config) {
 void add_sample_render_systems(jobs::Schedule& s, const SampleSceneConfig& config) {
   s.add_task("orbit_camera",
              [](jobs::SystemContext& ctx) {
-               const FrameTime& t = ctx.world().resource<FrameTime>();
+               const FrameTime& t = ctx.world().resource<const FrameTime>();
                Camera& c = ctx.world().resource<Camera>();
                const float a = -1.5707963f + 0.05f * static_cast<float>(t.elapsed);
                c.position = {190.0f * std::cos(a), 190.0f * std::sin(a), 45.0f};
@@ -119,7 +119,7 @@ void add_sample_render_systems(jobs::Schedule& s, const SampleSceneConfig& confi
   s.add_task(
        "extract_lights",
        [](jobs::SystemContext& ctx) {
-         const SampleLights& l = ctx.world().resource<SampleLights>();
+         const SampleLights& l = ctx.world().resource<const SampleLights>();
          std::size_t i = 0;
          ctx.world().query<DebugSphere>().each([&](DebugSphere& sphere) {
            if (i >= l.count) return;

@@ -68,7 +68,7 @@ void add_sample_systems(jobs::Schedule& s) {
   s.add_chunks<Position, const Velocity>(
        "integrate",
        [](jobs::SystemContext& ctx, const ecs::ChunkView<Position, const Velocity>& c) {
-         const float dt = ctx.world().resource<FrameTime>().dt;
+         const float dt = ctx.world().resource<const FrameTime>().dt;
          auto p = c.get<Position>();
          auto v = c.get<const Velocity>();
          for (std::size_t i = 0; i < c.size(); ++i) {
@@ -88,7 +88,7 @@ void add_sample_systems(jobs::Schedule& s) {
   // Expired particles are destroyed and replaced by a fresh one (deferred commands).
   s.add_chunks<Lifetime>("age",
                          [](jobs::SystemContext& ctx, const ecs::ChunkView<Lifetime>& c) {
-                           const FrameTime& t = ctx.world().resource<FrameTime>();
+                           const FrameTime& t = ctx.world().resource<const FrameTime>();
                            auto life = c.get<Lifetime>();
                            const auto ents = c.entities();
                            for (std::size_t i = 0; i < c.size(); ++i) {
@@ -137,8 +137,8 @@ void add_sample_systems(jobs::Schedule& s) {
   s.add_chunks<const Position, Velocity>(
        "swirl",
        [](jobs::SystemContext& ctx, const ecs::ChunkView<const Position, Velocity>& c) {
-         const Centroid& m = ctx.world().resource<Centroid>();
-         const float k = 0.05f * ctx.world().resource<FrameTime>().dt;
+         const Centroid& m = ctx.world().resource<const Centroid>();
+         const float k = 0.05f * ctx.world().resource<const FrameTime>().dt;
          auto p = c.get<const Position>();
          auto v = c.get<Velocity>();
          for (std::size_t i = 0; i < c.size(); ++i) {
@@ -151,7 +151,7 @@ void add_sample_systems(jobs::Schedule& s) {
   s.add_task("move_lights",
              [](jobs::SystemContext& ctx) {
                SampleLights& l = ctx.world().resource<SampleLights>();
-               const float a = ctx.world().resource<FrameTime>().dt * 0.3f;
+               const float a = ctx.world().resource<const FrameTime>().dt * 0.3f;
                const float ca = std::cos(a), sa = std::sin(a);
                for (std::size_t i = 0; i < l.count; ++i) {
                  const float x = l.lights[i].x, z = l.lights[i].z;
@@ -166,7 +166,7 @@ void add_sample_systems(jobs::Schedule& s) {
   s.add_chunks<const Position, Irradiance>(
        "light",
        [](jobs::SystemContext& ctx, const ecs::ChunkView<const Position, Irradiance>& c) {
-         const SampleLights& l = ctx.world().resource<SampleLights>();
+         const SampleLights& l = ctx.world().resource<const SampleLights>();
          auto p = c.get<const Position>();
          auto e = c.get<Irradiance>();
          for (std::size_t i = 0; i < c.size(); ++i) {

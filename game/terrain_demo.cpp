@@ -55,7 +55,7 @@ float terrain_height_at(const Terrain& t, glm::vec2 world_xy) {
 }
 
 void animate(ecs::World& w, const TerrainDemoConfig& config) {
-  const FrameTime& time = w.resource<FrameTime>();
+  const FrameTime& time = w.resource<const FrameTime>();
   const float t = static_cast<float>(time.elapsed);
   if (auto* env = w.try_resource<EnvironmentLight>())
     env->rotation_z = config.sky_rotation_speed * t;
@@ -90,7 +90,7 @@ void animate(ecs::World& w, const TerrainDemoConfig& config) {
 }
 
 void orbit(ecs::World& w) {
-  const float t = static_cast<float>(w.resource<FrameTime>().elapsed);
+  const float t = static_cast<float>(w.resource<const FrameTime>().elapsed);
   Camera& c = w.resource<Camera>();
   float extent = 20000.0f;
   w.query<const Terrain>().each([&](const Terrain& terrain) {
@@ -133,7 +133,7 @@ void debug_view(ecs::World& w) {
     const glm::vec3 c = l.radiance / std::max({l.radiance.x, l.radiance.y, l.radiance.z, 1e-6f});
     s = {l.position, l.radius, c * 4.0f};
   });
-  const HorizonProbe* probe = w.try_resource<HorizonProbe>();
+  const HorizonProbe* probe = w.try_resource<const HorizonProbe>();
   w.query<const Terrain, const TerrainHorizons, DebugLines>().each([&](const Terrain& terrain,
                                                                        const TerrainHorizons& h,
                                                                        DebugLines& out) {
@@ -144,7 +144,7 @@ void debug_view(ecs::World& w) {
     const data::HeightField& f = *t->heights;
     if (g.width != f.width || g.height != f.height || g.azimuths == 0) return;  // not yet swept
     int x, y;
-    if (!pick_texel(w.resource<Camera>(), *probe, *t, x, y)) return;
+    if (!pick_texel(w.resource<const Camera>(), *probe, *t, x, y)) return;
     const glm::vec3 p = t->origin +
                         glm::vec3(x * f.cell_size, y * f.cell_size, t->height_scale * f.at(x, y)) +
                         glm::vec3(0, 0, 5);

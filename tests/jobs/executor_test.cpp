@@ -3,7 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <string>
 #include <vector>
+
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/motion.h"
@@ -34,7 +38,7 @@ TEST_P(ExecutorTest, WriterRunsBeforeReaderEveryFrame) {
      ++ctx.world().resource<Counter>().value;
    }).writes<Counter>();
   s.add_task("read", [&](SystemContext& ctx) {
-     seen.push_back(ctx.world().resource<Counter>().value);
+     seen.push_back(ctx.world().resource<const Counter>().value);
    }).reads<Counter>();
   Executor ex(GetParam());
   for (int f = 0; f < 50; ++f) ex.run(s, w);
@@ -186,6 +190,62 @@ TEST_P(ExecutorTest, IndependentSystemsOverlapWhenThreadsAllow) {
   ex.run(s, w);
   EXPECT_EQ(max_inside.load(), GetParam() == 1 ? 1 : 2);
   EXPECT_EQ(ex.last_frame().systems.size(), 2u);
+}
+
+// In builds with assertions a system that touches what it did not declare stops the frame with
+// AccessViolation naming it (penumbra/ecs/access_check.h).
+TEST_P(ExecutorTest, UndeclaredAccessFailsTheFrameLoudly) {
+  if constexpr (!ecs::kAccessChecks) GTEST_SKIP() << "access checks are compiled out (NDEBUG)";
+  ecs::World w;
+  w.emplace_resource<Counter>();
+  for (int i = 0; i < 1000; ++i) w.create_with(Visited{});
+  Schedule writes_what_it_reads;
+  writes_what_it_reads
+      .add_task("bump", [](SystemContext& ctx) { ++ctx.world().resource<Counter>().value; })
+      .reads<Counter>();
+  Executor ex(GetParam());
+  try {
+    ex.run(writes_what_it_reads, w);
+    ADD_FAILURE() << "no AccessViolation";
+  } catch (const ecs::AccessViolation& v) {
+    EXPECT_NE(std::string(v.what()).find("'bump'"), std::string::npos) << v.what();
+  }
+  EXPECT_EQ(w.resource<Counter>().value, 0);
+
+  Schedule reads_undeclared;  // per chunk, on whichever worker runs it
+  reads_undeclared.add_each<Visited>("visit", [&w](Visited& v) {
+    v.count += w.resource<const Counter>().value;
+  });
+  EXPECT_THROW(ex.run(reads_undeclared, w), ecs::AccessViolation);
+}
+
+// Systems that run at the same time, each with its own parallel_for over entities it looks up in
+// the world: no thread runs one system's work under the other's declaration.
+TEST_P(ExecutorTest, ConcurrentSystemsWithInnerParallelLoopsPassTheChecks) {
+  ecs::World w;
+  std::vector<ecs::Entity> a, b;
+  for (int i = 0; i < 2000; ++i) a.push_back(w.create_with(Counter{}));
+  for (int i = 0; i < 2000; ++i) b.push_back(w.create_with(Visited{}));
+  Schedule s;
+  // One task per entity: plenty of chances for a waiting thread to steal.
+  s.add_task("counters", [&a](SystemContext& ctx) {
+     tbb::parallel_for(
+         std::size_t{0}, a.size(), std::size_t{1},
+         [&](std::size_t i) { ++ctx.world().get_mut<Counter>(a[i])->value; },
+         tbb::simple_partitioner());
+   }).writes<Counter>();
+  s.add_task("visits", [&b](SystemContext& ctx) {
+     tbb::parallel_for(
+         std::size_t{0}, b.size(), std::size_t{1},
+         [&](std::size_t i) { ++ctx.world().get_mut<Visited>(b[i])->count; },
+         tbb::simple_partitioner());
+   }).writes<Visited>();
+  Executor ex(GetParam());
+  for (int f = 0; f < 50; ++f) ASSERT_NO_THROW(ex.run(s, w));
+  int bad = 0;
+  w.query<const Counter>().each([&](const Counter& c) { bad += c.value != 50; });
+  w.query<const Visited>().each([&](const Visited& v) { bad += v.count != 50; });
+  EXPECT_EQ(bad, 0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Threads, ExecutorTest, ::testing::Values(1, 2, 8));

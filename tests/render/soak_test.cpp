@@ -69,7 +69,7 @@ struct Birth {
 void add_churn(jobs::Schedule& s, std::shared_ptr<data::MeshData> shared) {
   s.add_chunks<const Birth>("die",
                             [](jobs::SystemContext& ctx, const ecs::ChunkView<const Birth>& c) {
-                              const std::uint64_t now = ctx.world().resource<FrameTime>().frame;
+                              const std::uint64_t now = ctx.world().resource<const FrameTime>().frame;
                               const auto births = c.get<const Birth>();
                               const auto ents = c.entities();
                               for (std::size_t i = 0; i < c.size(); ++i)

@@ -65,6 +65,7 @@ bool World::alive(Entity e) const {
 }
 
 Entity World::create() {
+  check_structural("create");
   const Entity e = allocate_entity();
   Slot& s = slots_[e.index];
   s.archetype = empty_;
@@ -73,6 +74,7 @@ Entity World::create() {
 }
 
 Entity World::create_erased(std::span<const TypeId> types, std::span<void* const> values) {
+  check_structural("create_with");
   assert(types.size() == values.size());
   TypeSet sig;
   for (TypeId t : types) {
@@ -91,6 +93,7 @@ Entity World::create_erased(std::span<const TypeId> types, std::span<void* const
 }
 
 bool World::destroy(Entity e) {
+  check_structural("destroy");
   const Slot* found = live_slot(e);
   if (found == nullptr) return false;
   Slot& s = slots_[e.index];

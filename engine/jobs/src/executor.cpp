@@ -14,6 +14,7 @@
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
+#include "penumbra/ecs/access_check.h"
 #include "penumbra/jobs/command_pool.h"
 #include "tsan_annotations.h"
 
@@ -25,6 +26,20 @@ std::int64_t ns_between(Clock::time_point a, Clock::time_point b) {
 }
 int slot() {
   return std::max(0, tbb::this_task_arena::current_thread_index());
+}
+
+// Runs f as system s: in builds with assertions, with s's declared access installed for the
+// ECS's checks (penumbra/ecs/access_check.h) and isolated, so that this thread, while it waits
+// inside s, runs no other system's work under s's declaration.
+template <class F>
+void as_system(const System& s, F&& f) {
+  if constexpr (ecs::kAccessChecks) {
+    const ecs::DeclaredAccess declared{s.name, &s.access.reads, &s.access.writes};
+    ecs::AccessScope scope(s.access.exclusive ? nullptr : &declared);
+    tbb::this_task_arena::isolate(f);
+  } else {
+    f();
+  }
 }
 }  // namespace
 
@@ -70,7 +85,7 @@ void Executor::Impl::run_chunks(std::uint32_t k, System& s, std::size_t chunks) 
   auto body = [&](std::size_t first, std::size_t last) {
     for (std::size_t c = first; c < last; ++c) {
       SystemContext ctx(*world, tick, node.last_run_tick, key_base | c, c, &commands);
-      s.run_chunk(ctx);
+      as_system(s, [&] { s.run_chunk(ctx); });
     }
   };
   if (threads == 1 || chunks == 1) {
@@ -131,19 +146,20 @@ void Executor::Impl::run_node(std::uint32_t k) {
     }
     case System::Kind::kTask: {
       SystemContext ctx(*world, tick, node.last_run_tick, std::uint64_t{k} << 32, 0, &commands);
-      s.run(ctx);
+      as_system(s, [&] { s.run(ctx); });
       break;
     }
     case System::Kind::kChunks: {
       std::size_t entities = 0;
-      const std::size_t chunks = s.prepare(*world, s.exclude, entities);
+      std::size_t chunks = 0;
+      as_system(s, [&] { chunks = s.prepare(*world, s.exclude, entities); });
       timing.entities = entities;
       timing.chunks = chunks;
       if (chunks > 0) run_chunks(k, s, chunks);
       if (s.finish) {
         SystemContext ctx(*world, tick, node.last_run_tick, (std::uint64_t{k} << 32) | 0xFFFFFFFFu,
                           0, &commands);
-        s.finish(ctx);
+        as_system(s, [&] { s.finish(ctx); });
       }
       break;
     }

@@ -48,9 +48,9 @@ std::shared_ptr<const data::HeightField> scaled_heights(const Terrain& t,
 void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
                            ScaledHeightsCache* cache) {
   packet.clear_lists();
-  const Camera* camera = world.try_resource<Camera>();
+  const Camera* camera = world.try_resource<const Camera>();
   packet.camera = to_render(camera ? *camera : Camera{});
-  if (const RenderSettings* s = world.try_resource<RenderSettings>()) {
+  if (const RenderSettings* s = world.try_resource<const RenderSettings>()) {
     packet.sky = s->sky;
     packet.view = s->view;
   }

@@ -46,7 +46,7 @@ bool update_visibility(TerrainShadowState& x, const Terrain& t) {
 
 void update_visibility(jobs::SystemContext& ctx) {
   ecs::World& w = ctx.world();
-  const auto& settings = w.resource<TerrainShadowSettings>();
+  const auto& settings = w.resource<const TerrainShadowSettings>();
   // State of terrains that went away (the entity is alive, its Terrain or heights are not).
   std::vector<ecs::Entity> gone;
   w.query<const TerrainShadowState>().each([&](ecs::Entity e, const TerrainShadowState&) {
@@ -113,7 +113,7 @@ void update_lights(ecs::World& w) {
 }
 
 void compose(ecs::World& w) {
-  const EnvironmentLight* env = w.try_resource<EnvironmentLight>();
+  const EnvironmentLight* env = w.try_resource<const EnvironmentLight>();
   w.query<TerrainShadowState, TerrainLighting>().each([&](TerrainShadowState& x,
                                                           TerrainLighting& lighting) {
     TerrainLighting* out = &lighting;

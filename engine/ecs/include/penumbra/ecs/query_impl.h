@@ -8,6 +8,7 @@ namespace penumbra::ecs {
 
 template <class... Ts>
 Query<Ts...>::Query(World& world) : world_(&world) {
+  (check_use<Ts>(), ...);
   required_ = type_set<Ts...>();
   ((std::is_const_v<Ts> ? reads_.set(type_id<Ts>()) : writes_.set(type_id<Ts>())), ...);
 }

@@ -5,6 +5,9 @@
 // CommandBuffers instead, applied at sync points. Component data may be read and written from
 // many threads as the job graph's read/write sets allow.
 //
+// Inside a running system, the accessors check the system's declared reads and writes in builds
+// with assertions (penumbra/ecs/access_check.h).
+//
 // Ticks: every write access stamps the touched chunk's column with a tick (see archetype.h).
 // The job graph gives each system its own tick per frame, increasing along the graph's edges,
 // so "changed since my last run" is exact at chunk granularity.
@@ -21,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "penumbra/ecs/access_check.h"
 #include "penumbra/ecs/archetype.h"
 #include "penumbra/ecs/entity.h"
 #include "penumbra/ecs/type_info.h"
@@ -54,25 +58,30 @@ class World {
   // not alive.
   template <class T>
   T& add(Entity e, T value) {
+    check_structural("add");
     return *static_cast<T*>(add_erased(e, type_id<T>(), &value));
   }
   // Returns false when `e` is not alive or has no T.
   template <class T>
   bool remove(Entity e) {
+    check_structural("remove");
     return remove_erased(e, type_id<T>());
   }
   template <class T>
   bool has(Entity e) const {
+    check_read<T>();
     return get_erased(e, type_id<T>()) != nullptr;
   }
   // nullptr when `e` is not alive or has no T.
   template <class T>
   const T* get(Entity e) const {
+    check_read<T>();
     return static_cast<const T*>(get_erased(e, type_id<T>()));
   }
   // As get(), and marks T in e's chunk changed at tick().
   template <class T>
   T* get_mut(Entity e) {
+    check_write<T>();
     return static_cast<T*>(get_mut_erased(e, type_id<T>()));
   }
 
@@ -85,8 +94,10 @@ class World {
   Entity create_erased(std::span<const TypeId> types, std::span<void* const> values);
 
   // --- Resources ----------------------------------------------------------------------------
+  // `resource<const T>()` reads, `resource<T>()` writes (what the access checks expect).
   template <class T, class... Args>
   T& emplace_resource(Args&&... args) {
+    check_structural("emplace_resource");
     auto ptr = std::make_shared<T>(std::forward<Args>(args)...);
     T& ref = *ptr;
     resources_[type_id<T>()] = std::move(ptr);
@@ -94,7 +105,8 @@ class World {
   }
   template <class T>
   T* try_resource() const {
-    return static_cast<T*>(resources_[type_id<T>()].get());
+    check_use<T>();
+    return static_cast<std::remove_const_t<T>*>(resources_[type_id<T>()].get());
   }
   // Throws std::out_of_range naming T when the resource is absent.
   template <class T>
@@ -105,6 +117,7 @@ class World {
   }
   template <class T>
   bool remove_resource() {
+    check_structural("remove_resource");
     auto& slot = resources_[type_id<T>()];
     const bool had = slot != nullptr;
     slot.reset();
