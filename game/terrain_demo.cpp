@@ -39,7 +39,6 @@ using components::Terrain;
 using components::TerrainLighting;
 using terrain_shadow::TerrainHorizons;
 
-constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kFrameSeconds = 1.0f / 30.0f;
 
 std::filesystem::path data_dir(const TerrainDemoConfig& c) {
@@ -96,7 +95,7 @@ void orbit(ecs::World& w) {
   w.query<const Terrain>().each([&](const Terrain& terrain) {
     if (terrain.heights) extent = terrain.heights->cell_size * (terrain.heights->width - 1);
   });
-  const float a = -kPi / 2 + 0.03f * t;
+  const float a = -std::numbers::pi_v<float> / 2 + 0.03f * t;
   c.position =
       glm::vec3(0.85f * extent * std::cos(a), 0.85f * extent * std::sin(a), 0.45f * extent);
   c.target = glm::vec3(0.0f, 0.0f, 0.0f);
@@ -151,7 +150,7 @@ void debug_view(ecs::World& w) {
     const float len = 12.0f * t->heights->cell_size;
     glm::vec3 first{}, prev{};
     for (int k = 0; k < g.azimuths; ++k) {
-      const float phi = 2 * kPi * k / g.azimuths, w_k = g.texel(x, y)[k];
+      const float phi = 2 * std::numbers::pi_v<float> * k / g.azimuths, w_k = g.texel(x, y)[k];
       const glm::vec3 d(std::cos(phi) * std::cos(w_k), std::sin(phi) * std::cos(w_k),
                         std::sin(w_k));
       const glm::vec3 q = p + len * d;

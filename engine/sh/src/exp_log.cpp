@@ -11,7 +11,6 @@
 
 namespace penumbra::sh {
 namespace {
-constexpr double kPi = std::numbers::pi;
 constexpr float kY0 = 0.28209479177387814f;  // y_0 = 1 / sqrt(4 pi)
 
 template <int N>
@@ -36,15 +35,15 @@ struct OlTable {
       const SphereQuadrature q = SphereQuadrature::gauss(kGauss, 1);  // nodes in z, weights 4 pi w/2
       for (int i = 0; i < kGauss; ++i) {
         z[i] = q.directions[i].z;
-        w[i] = q.weights[i] / (2 * kPi) * 2 * kPi;  // = 2 pi * GL weight
+        w[i] = q.weights[i] / (2 * std::numbers::pi) * 2 * std::numbers::pi;  // = 2 pi * GL weight
       }
     }
     // Zonal shapes: ZH coefficients of -cap(theta), DC removed, unit norm; and their values.
     std::vector<std::array<double, N>> shape(kShapes);
     std::vector<std::vector<double>> value(kShapes, std::vector<double>(kGauss));
     for (int k = 0; k < kShapes; ++k) {
-      const double solid = 4 * kPi * (k + 0.5) / kShapes * 0.5;  // caps up to a hemisphere
-      const double theta = std::acos(1 - solid / (2 * kPi));
+      const double solid = 4 * std::numbers::pi * (k + 0.5) / kShapes * 0.5;  // caps up to a hemisphere
+      const double theta = std::acos(1 - solid / (2 * std::numbers::pi));
       const Zonal<N> cap = zh_cap<N>(static_cast<float>(theta));
       double norm2 = 0;
       for (int l = 1; l < N; ++l) norm2 += double(cap[l]) * cap[l];
@@ -53,7 +52,7 @@ struct OlTable {
         double p[N];
         legendre(z[i], N, p);
         double v = 0;
-        for (int l = 1; l < N; ++l) v += shape[k][l] * std::sqrt((2 * l + 1) / (4 * kPi)) * p[l];
+        for (int l = 1; l < N; ++l) v += shape[k][l] * std::sqrt((2 * l + 1) / (4 * std::numbers::pi)) * p[l];
         value[k][i] = v;
       }
     }
@@ -67,9 +66,9 @@ struct OlTable {
           double p[N];
           legendre(z[i], N, p);
           const double e = std::exp(s * value[k][i]) * w[i];
-          for (int l = 0; l < N; ++l) e_l[l] += e * std::sqrt((2 * l + 1) / (4 * kPi)) * p[l];
+          for (int l = 0; l < N; ++l) e_l[l] += e * std::sqrt((2 * l + 1) / (4 * std::numbers::pi)) * p[l];
         }
-        a_sum += e_l[0] / std::sqrt(4 * kPi);
+        a_sum += e_l[0] / std::sqrt(4 * std::numbers::pi);
         for (int l = 1; l < N; ++l) num += e_l[l] * s * shape[k][l];
         den += s * s;
       }

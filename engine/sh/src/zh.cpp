@@ -6,8 +6,7 @@
 
 namespace penumbra::sh {
 namespace {
-constexpr double kPi = std::numbers::pi;
-double norm(int l) { return std::sqrt((2 * l + 1) / (4 * kPi)); }
+double norm(int l) { return std::sqrt((2 * l + 1) / (4 * std::numbers::pi)); }
 }  // namespace
 
 void legendre(double x, int n, double* out) {
@@ -33,20 +32,20 @@ Zonal<N> zh_clamped_cosine() {
     const double x = 0.5 * (t + 1);  // [-1, 1] -> [0, 1]
     double p[N];
     legendre(x, N, p);
-    for (int l = 0; l < N; ++l) z[l] += static_cast<float>(0.5 * w * x * p[l] * 2 * kPi * norm(l));
+    for (int l = 0; l < N; ++l) z[l] += static_cast<float>(0.5 * w * x * p[l] * 2 * std::numbers::pi * norm(l));
   }
   return z;
 }
 
 template <int N>
 Zonal<N> zh_cap(float half_angle) {
-  const double t = std::cos(std::clamp<double>(half_angle, 0.0, kPi));
+  const double t = std::cos(std::clamp<double>(half_angle, 0.0, std::numbers::pi));
   double p[N + 1];
   legendre(t, N + 1, p);
   Zonal<N> z{};
-  z[0] = static_cast<float>(2 * kPi * norm(0) * (1 - t));
+  z[0] = static_cast<float>(2 * std::numbers::pi * norm(0) * (1 - t));
   for (int l = 1; l < N; ++l) {
-    z[l] = static_cast<float>(2 * kPi * norm(l) * (p[l - 1] - p[l + 1]) / (2 * l + 1));
+    z[l] = static_cast<float>(2 * std::numbers::pi * norm(l) * (p[l - 1] - p[l + 1]) / (2 * l + 1));
   }
   return z;
 }
@@ -57,7 +56,7 @@ Zonal<N> zh_sphere_visibility(float radius, float distance) {
   if (!(radius < distance)) return z;  // inside (or touching): fully blocked
   const Zonal<N> cap = zh_cap<N>(std::asin(radius / distance));
   for (int l = 0; l < N; ++l) z[l] = -cap[l];
-  z[0] += static_cast<float>(std::sqrt(4 * kPi));  // 1 - cap
+  z[0] += static_cast<float>(std::sqrt(4 * std::numbers::pi));  // 1 - cap
   return z;
 }
 
@@ -65,7 +64,7 @@ template <int N>
 Zonal<N> zh_sphere_log_visibility(float radius, float distance, float log_eps) {
   Zonal<N> z{};
   if (!(radius < distance)) {
-    z[0] = static_cast<float>(log_eps * std::sqrt(4 * kPi));
+    z[0] = static_cast<float>(log_eps * std::sqrt(4 * std::numbers::pi));
     return z;
   }
   const Zonal<N> cap = zh_cap<N>(std::asin(radius / distance));
@@ -86,7 +85,7 @@ template <int N>
 std::array<float, N> nlp_log_slice(float sigma, float log_eps) {
   // Occluded for z = cos theta in [-1, sin sigma]:
   // integral_{-1}^{t} P_l = (P_{l+1}(t) - P_{l-1}(t)) / (2l + 1), and t + 1 for l = 0.
-  const double t = std::sin(std::clamp<double>(sigma, -kPi / 2, kPi / 2));
+  const double t = std::sin(std::clamp<double>(sigma, -std::numbers::pi / 2, std::numbers::pi / 2));
   double p[N + 1];
   legendre(t, N + 1, p);
   std::array<float, N> out{};

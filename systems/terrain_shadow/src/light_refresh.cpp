@@ -9,9 +9,12 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "fast_math.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
+
+using detail::kPi;
 
 float luminance(const glm::vec3& c) {
   return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;

@@ -26,7 +26,6 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 using detail::kHalfPi;
 
 using detail::Lanes;  // lanes.h
@@ -52,7 +51,7 @@ void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
   const sh::SphereQuadrature q = sh::SphereQuadrature::gauss(n, 1);
   for (int i = 0; i < n; ++i) {
     x.push_back(q.directions[i].z);
-    w.push_back(q.weights[i] / (2 * kPi));
+    w.push_back(q.weights[i] / (2 * std::numbers::pi));
   }
 }
 
@@ -68,7 +67,7 @@ LogWedge<N>::LogWedge(int azimuths, float log_eps) : azimuths_(azimuths), log_ep
                                 " must be finite and < 0");
   }
   constexpr int kNN = N * N, kCols = 2 * N;
-  const double dphi = 2 * kPi / azimuths;
+  const double dphi = 2 * std::numbers::pi / azimuths;
   std::vector<double> tx, tw, px, pw;
   gauss_legendre(kPolarPoints, tx, tw);
   gauss_legendre(kAzimuthPoints, px, pw);
@@ -80,8 +79,8 @@ LogWedge<N>::LogWedge(int azimuths, float log_eps) : azimuths_(azimuths), log_ep
   for (std::size_t a = 0; a < px.size(); ++a) {
     const double alpha = 0.5 * (px[a] + 1), phi = alpha * dphi;
     for (std::size_t t = 0; t < tx.size(); ++t) {
-      const double theta = 0.5 * kPi * (tx[t] + 1), z = std::cos(theta), s = std::sin(theta);
-      const double weight = 0.5 * dphi * pw[a] * 0.5 * kPi * tw[t] * s;
+      const double theta = 0.5 * std::numbers::pi * (tx[t] + 1), z = std::cos(theta), s = std::sin(theta);
+      const double weight = 0.5 * dphi * pw[a] * 0.5 * std::numbers::pi * tw[t] * s;
       sh::eval_basis<N>(glm::vec3(static_cast<float>(s * std::cos(phi)),
                                   static_cast<float>(s * std::sin(phi)), static_cast<float>(z)),
                         y);

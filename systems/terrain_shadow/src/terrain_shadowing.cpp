@@ -67,7 +67,6 @@ const char* to_string(LightShading s) {
 
 namespace {
 
-constexpr float kTwoPi = 2 * std::numbers::pi_v<float>;
 
 TerrainShadowConfig checked(const TerrainShadowConfig& c) {
   if (c.azimuths < 3 || c.light_azimuths < 3)

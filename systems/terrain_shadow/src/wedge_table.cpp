@@ -24,7 +24,6 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 // Quadrature orders of wedge_exact: the integrands are trigonometric polynomials of degree
 // <= N + 1 in the elevation and analytic in phi; 16 points reach float precision (checked
@@ -43,7 +42,7 @@ Rule gauss_legendre(int n) {
   Rule r;
   for (int i = 0; i < n; ++i) {
     r.x.push_back(q.directions[i].z);
-    r.w.push_back(q.weights[i] / (2 * kPi));
+    r.w.push_back(q.weights[i] / (2 * std::numbers::pi));
   }
   return r;
 }
@@ -70,7 +69,7 @@ void integrate_piece(double phi0, double phi1, double w_left, double w_right, do
     const double phi = phi0 + 0.5 * (phi1 - phi0) * (ra.x[a] + 1);
     const double wa = 0.5 * (phi1 - phi0) * ra.w[a];
     const double e0 = std::max(w_left + (phi / dphi) * (w_right - w_left), floor);
-    const double half = 0.5 * (kPi / 2 - e0);
+    const double half = 0.5 * (std::numbers::pi / 2 - e0);
     if (half <= 0) continue;
     const double cp = std::cos(phi), sp = std::sin(phi);
     for (std::size_t e = 0; e < re.x.size(); ++e) {
@@ -86,7 +85,7 @@ void integrate_piece(double phi0, double phi1, double w_left, double w_right, do
 }
 
 double domain_min(WedgeDomain domain) {
-  return domain == WedgeDomain::kHemisphere ? 0 : -kPi / 2;
+  return domain == WedgeDomain::kHemisphere ? 0 : -std::numbers::pi / 2;
 }
 
 // Eight floats on vector lanes (GCC/Clang vector extension, as in sh/basis.cpp); a table node
@@ -165,12 +164,12 @@ constexpr std::array<int, N * N> partner() {
 
 template <int N>
 sh::Coeffs<N> wedge_exact(float w_left, float w_right, float dphi, WedgeDomain domain) {
-  if (!(dphi > 0 && dphi <= 2 * kPi + 1e-6)) {
+  if (!(dphi > 0 && dphi <= 2 * std::numbers::pi + 1e-6)) {
     throw std::invalid_argument("wedge_exact: dphi " + std::to_string(dphi) + " outside (0, 2 pi]");
   }
   const double floor = domain_min(domain);
-  const double wl = std::clamp<double>(w_left, -kPi / 2, kPi / 2);
-  const double wr = std::clamp<double>(w_right, -kPi / 2, kPi / 2);
+  const double wl = std::clamp<double>(w_left, -std::numbers::pi / 2, std::numbers::pi / 2);
+  const double wr = std::clamp<double>(w_right, -std::numbers::pi / 2, std::numbers::pi / 2);
   double acc[N * N] = {};
   // Eq. 4.18 / 4.26: visible above the linear horizon (and, on the hemisphere, above 0).
   // Split where w(phi) crosses the floor, so each piece has a smooth lower bound.
@@ -198,10 +197,10 @@ WedgeTable<N>::WedgeTable(int azimuths, WedgeDomain domain, int resolution)
                                 " (need >= 2)");
   }
   constexpr int kB = blocks<N>();
-  const double lo = domain_min(domain), step = (kPi / 2 - lo) / (resolution - 1);
+  const double lo = domain_min(domain), step = (std::numbers::pi / 2 - lo) / (resolution - 1);
   lo_ = static_cast<float>(lo);
   inv_step_ = static_cast<float>(1 / step);
-  const float dphi = static_cast<float>(2 * kPi / azimuths);
+  const float dphi = static_cast<float>(2 * std::numbers::pi / azimuths);
   // Rows one cache line longer than their nodes: a power-of-two row stride would put a column's
   // nodes into one L1 set.
   row_ = static_cast<std::size_t>(resolution) * kB + 64 / sizeof(Block);
@@ -219,7 +218,7 @@ WedgeTable<N>::WedgeTable(int azimuths, WedgeDomain domain, int resolution)
   for (int k = 0; k < azimuths; ++k) {
     Block* a = &rotation_[static_cast<std::size_t>(k) * 2 * kB];
     Block* b = a + kB;
-    const double phi = 2 * kPi * k / azimuths;
+    const double phi = 2 * std::numbers::pi * k / azimuths;
     for (int l = 0; l < N; ++l) {
       for (int m = -l; m <= l; ++m) {
         // rotate_z: out(l, m) = c f(l, m) - s f(l, -m); out(l, -m) = s f(l, m) + c f(l, -m).
