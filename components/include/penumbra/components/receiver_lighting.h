@@ -1,0 +1,21 @@
+// What the blocker accumulation system computed for each point of an entity's Receiver:
+// visibility as SH (4 bands, 16 coefficients per point) and RGB irradiance (W/m^2, linear).
+// Published as shared immutable arrays, replaced rather than changed (as TerrainLighting).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+namespace penumbra::components {
+
+struct ReceiverLighting {
+  static constexpr int kBands = 4;
+  using Visibility = std::array<float, kBands * kBands>;
+  std::shared_ptr<const std::vector<Visibility>> visibility;  // one per receiver point
+  std::shared_ptr<const std::vector<glm::vec3>> irradiance;   // one per receiver point
+};
+
+}  // namespace penumbra::components

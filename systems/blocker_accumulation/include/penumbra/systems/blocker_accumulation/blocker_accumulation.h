@@ -1,0 +1,94 @@
+// Soft shadows from dynamic sphere-set blockers: at each receiver the blockers' log-SH
+// visibilities are summed and exponentiated once ([Giraud] sec. 4.2, [Guerrero08] eq. 6-8, on
+// [Ren06]'s exponentials), then shaded with the environment's SH. Usable without the ECS: give
+// it world-space spheres, then ask for any receivers.
+//
+// Shading (BlockerShading):
+//  - kProduct ([Ren06]): V = exp(sum of log V_i); transfer T = V * max(0, n.w) as an SH product;
+//    irradiance E = L . T.
+//  - kLogBrdf ([Giraud] sec. 5, "Log-SH Diffuse"): the log-ZH of max(cos / pi, eps) about n is
+//    added to the sum before the exponential, so no SH product is needed: E = pi L . exp(...).
+// Exponentials are sh::exp_visibility (HYB, clamped to what a [0, 1] function can have).
+//
+// Many overlapping blockers ([Giraud] sec. 4.2: log eps summed m times): HYB's squarings
+// diverge beyond about 4 coincident caps (the exponential then falls back to its clamp, which
+// reads as no shadow at all). So before the exponential, when the blockers' summed weight
+// exceeds max_depth, the sum is evaluated at each contributing blocker's axis (where caps are
+// deepest) and, if deeper than max_depth log eps, scaled back to that depth: m coincident
+// blockers shade like max_depth of them (eps^3 = 0.008 with the defaults), disjoint ones are
+// untouched. tests/blocker_accumulation prints what this gives for 1 to 1,000 blockers.
+//
+// Errors: set_blockers throws std::invalid_argument naming the sphere (index) with a non-finite
+// centre or a non-finite or negative radius; shade() names a receiver with a non-finite point
+// or normal. A zero-radius sphere blocks nothing.
+// Threading: set_blockers on one thread; the const members from any number of threads.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "penumbra/sh/basis.h"
+#include "penumbra/sh/zh.h"
+#include "penumbra/systems/blocker_accumulation/blocker_grid.h"
+#include "penumbra/systems/blocker_accumulation/sphere_blocker.h"
+
+namespace penumbra::blocker_accumulation {
+
+enum class BlockerShading { kProduct, kLogBrdf };
+
+struct BlockerSettings {
+  SphereBlockerSettings blocker;
+  BlockerShading shading = BlockerShading::kProduct;
+  // kLogBrdf: the floor of max(cos / pi, eps) before its log. The diffuse lobe peaks at
+  // 1 / pi = 0.32, so the blockers' 0.2 would flatten most of it (docs/blocker_accumulation.md).
+  float brdf_epsilon = 0.01f;
+  bool operator==(const BlockerSettings&) const = default;
+};
+
+template <int N>
+class BlockerAccumulation {
+ public:
+  explicit BlockerAccumulation(const BlockerSettings& settings = {});
+
+  const BlockerSettings& settings() const { return settings_; }
+  void set_blockers(std::vector<WorldSphere> spheres);
+  std::span<const WorldSphere> blockers() const { return spheres_; }
+  const BlockerGrid& grid() const { return grid_; }
+
+  // Sum of the log-SH visibilities of every blocker that reaches (p, n), depth-limited.
+  sh::Coeffs<N> log_visibility(const glm::vec3& p, const glm::vec3& n) const;
+  // The visibility itself: one exponential of that sum.
+  sh::Coeffs<N> visibility(const glm::vec3& p, const glm::vec3& n) const;
+  // Irradiance (per channel of `radiance`, SH of the distant radiance) at p with unit normal n.
+  // `visibility_out`, when given, receives the visibility SH.
+  glm::vec3 irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p, const glm::vec3& n,
+                       sh::Coeffs<N>* visibility_out = nullptr) const;
+  // irradiance() for many receivers; `visibility` may be empty (not wanted) or one per point.
+  void shade(const sh::CoeffsRgb<N>& radiance, std::span<const glm::vec3> points,
+             std::span<const glm::vec3> normals, std::span<sh::Coeffs<N>> visibility,
+             std::span<glm::vec3> irradiance) const;
+
+  // Canonical log-ZH of max(cos theta / pi, eps) ([Giraud] sec. 5), by quadrature.
+  static sh::Zonal<N> log_diffuse_zh(float epsilon);
+
+ private:
+  // The raw sum (no depth limit); also the axes and summed weight of the blockers in it.
+  struct Contributors {
+    static constexpr int kMaxAxes = 64;
+    glm::vec3 axes[kMaxAxes];
+    int count = 0;
+    float weight = 0;
+  };
+  sh::Coeffs<N> accumulate(const glm::vec3& p, const glm::vec3& n, Contributors& c) const;
+
+  BlockerSettings settings_;
+  float log_eps_;
+  sh::Zonal<N> clamped_cosine_;
+  sh::Zonal<N> log_diffuse_;  // of max(cos / pi, brdf_epsilon)
+  std::vector<WorldSphere> spheres_;
+  BlockerGrid grid_;
+};
+
+}  // namespace penumbra::blocker_accumulation

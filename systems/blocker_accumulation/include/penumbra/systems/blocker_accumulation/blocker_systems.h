@@ -1,0 +1,46 @@
+// The blocker accumulation system in the job graph. Two task systems, in this order:
+//
+//   blockers.gather  reads SphereSet, Transform, BlockerSettingsResource; writes BlockerField
+//       Every entity's spheres moved to world space (centre by the Transform, radius by its
+//       largest axis scale) into one BlockerAccumulation and its spatial grid. An entity whose
+//       spheres or transform are not finite is left out and named in BlockerField::errors.
+//   blockers.shade   reads Receiver, Transform, BlockerField, EnvironmentLight; writes
+//       ReceiverLighting. Per entity with all three: its points and normals to world space,
+//       then visibility and irradiance per point (tbb::parallel_for over blocks of points),
+//       published as new shared arrays. Receivers whose points are not finite are named in
+//       BlockerField::errors and keep their previous lighting.
+//
+// The environment is optional (absent: black, visibility still computed); its SH is rotated by
+// rotation_z. Entities with a SphereSet shadow their own receivers too (the plane rule of
+// sphere_blocker.h keeps a surface point from being darkened by the sphere it sits in).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "penumbra/ecs/world.h"
+#include "penumbra/jobs/schedule.h"
+#include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
+
+namespace penumbra::blocker_accumulation {
+
+inline constexpr int kSystemBands = 4;  // = components::ReceiverLighting::kBands
+
+// Resource: how the system shades.
+struct BlockerSettingsResource {
+  BlockerSettings settings;
+};
+
+// Resource: this frame's world-space blockers, written by blockers.gather.
+struct BlockerField {
+  std::shared_ptr<BlockerAccumulation<kSystemBands>> accumulation;
+  std::vector<std::string> errors;  // this frame's rejected inputs, each naming its entity
+  std::size_t receivers = 0;        // receiver points shaded this frame
+};
+
+// Adds BlockerSettingsResource (with `settings`) and BlockerField when absent.
+void emplace_blocker_resources(ecs::World& world, const BlockerSettings& settings = {});
+void add_blocker_systems(jobs::Schedule& schedule);
+
+}  // namespace penumbra::blocker_accumulation

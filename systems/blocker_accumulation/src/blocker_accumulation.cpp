@@ -1,0 +1,163 @@
+#include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <glm/common.hpp>
+
+#include "penumbra/sh/exp_log.h"
+#include "penumbra/sh/product.h"
+#include "penumbra/sh/rotation.h"
+
+namespace penumbra::blocker_accumulation {
+namespace {
+
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+std::string str(const glm::vec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+}  // namespace
+
+template <int N>
+sh::Zonal<N> BlockerAccumulation<N>::log_diffuse_zh(float epsilon) {
+  // f_l = 2 pi N_l int_{-1}^{1} log(max(x / pi, eps)) P_l(x) dx, midpoint rule in x = cos theta
+  // ([Giraud] sec. 5, "Log-SH Diffuse"); 1/2^14 steps leave errors far below float precision
+  // of the result except at the kink x = pi eps, which the fine grid resolves to ~1e-7.
+  constexpr int kSteps = 1 << 14;
+  const double log_eps = std::log(static_cast<double>(epsilon));
+  double acc[N] = {};
+  for (int i = 0; i < kSteps; ++i) {
+    const double x = -1 + (i + 0.5) * 2.0 / kSteps;
+    const double f = std::max(std::log(std::max(x / std::numbers::pi, 1e-300)), log_eps);
+    double p[N];
+    sh::legendre(x, N, p);
+    for (int l = 0; l < N; ++l) acc[l] += f * p[l];
+  }
+  sh::Zonal<N> z{};
+  for (int l = 0; l < N; ++l) {
+    const double norm = std::sqrt((2 * l + 1) / (4 * std::numbers::pi));
+    z[l] = static_cast<float>(2 * std::numbers::pi * norm * acc[l] * 2.0 / kSteps);
+  }
+  return z;
+}
+
+template <int N>
+BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
+    : settings_(settings),
+      log_eps_(std::log(settings.blocker.epsilon)),
+      clamped_cosine_(sh::zh_clamped_cosine<N>()),
+      log_diffuse_(log_diffuse_zh(settings.brdf_epsilon)) {
+  const float eps = settings.blocker.epsilon;
+  if (!(eps > 0 && eps < 1))
+    throw std::invalid_argument("blocker epsilon " + std::to_string(eps) + " must be in (0, 1)");
+  if (!(settings.brdf_epsilon > 0 && settings.brdf_epsilon < 1))
+    throw std::invalid_argument("blocker brdf_epsilon must be in (0, 1)");
+  if (!(settings.blocker.min_sin >= 0 && settings.blocker.min_sin < 1))
+    throw std::invalid_argument("blocker min_sin must be in [0, 1)");
+}
+
+template <int N>
+void BlockerAccumulation<N>::set_blockers(std::vector<WorldSphere> spheres) {
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    if (!finite(spheres[i].centre))
+      throw std::invalid_argument("blocker sphere " + std::to_string(i) + ": centre " +
+                                  str(spheres[i].centre) + " is not finite");
+    if (!(std::isfinite(spheres[i].radius) && spheres[i].radius >= 0))
+      throw std::invalid_argument("blocker sphere " + std::to_string(i) + ": radius " +
+                                  std::to_string(spheres[i].radius) + " must be finite and >= 0");
+  }
+  spheres_ = std::move(spheres);
+  grid_.build(spheres_, settings_.blocker.min_sin);
+}
+
+template <int N>
+sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::vec3& n,
+                                                 Contributors& contributors) const {
+  sh::Coeffs<N> sum{};
+  const BlockerGrid::Candidates c = grid_.candidates(p);
+  for (const auto list : {c.near, c.everywhere})
+    for (const std::uint32_t i : list) {
+      const WorldSphere& s = spheres_[i];
+      const BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
+      if (!(v.weight > 0)) continue;
+      add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
+      contributors.weight += v.weight;
+      if (contributors.count < Contributors::kMaxAxes) contributors.axes[contributors.count++] = v.axis;
+    }
+  return sum;
+}
+
+template <int N>
+sh::Coeffs<N> BlockerAccumulation<N>::log_visibility(const glm::vec3& p, const glm::vec3& n) const {
+  Contributors c;
+  sh::Coeffs<N> sum = accumulate(p, n, c);
+  const float max_depth = settings_.blocker.max_depth;
+  if (!(max_depth > 0) || c.weight <= max_depth) return sum;  // cannot be that deep
+  float deepest = 0;  // in units of log eps (positive)
+  for (int k = 0; k < c.count; ++k)
+    deepest = std::max(deepest, sh::evaluate<N>(sum, c.axes[k]) / log_eps_);
+  if (deepest > max_depth) {
+    const float scale = max_depth / deepest;
+    for (float& x : sum) x *= scale;
+  }
+  return sum;
+}
+
+template <int N>
+sh::Coeffs<N> BlockerAccumulation<N>::visibility(const glm::vec3& p, const glm::vec3& n) const {
+  return sh::exp_visibility<N>(log_visibility(p, n));
+}
+
+template <int N>
+glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
+                                             const glm::vec3& n,
+                                             sh::Coeffs<N>* visibility_out) const {
+  const sh::Coeffs<N> log_v = log_visibility(p, n);
+  sh::Coeffs<N> transfer;
+  float scale = 1;
+  if (settings_.shading == BlockerShading::kProduct) {
+    const sh::Coeffs<N> v = sh::exp_visibility<N>(log_v);  // [Ren06]: one exponential
+    if (visibility_out) *visibility_out = v;
+    transfer = sh::product<N>(v, sh::rotate_zh<N>(clamped_cosine_, n));
+  } else {
+    sh::Coeffs<N> with_brdf = log_v;  // [Giraud] sec. 5: log-BRDF added before the exponential
+    const sh::Coeffs<N> brdf = sh::rotate_zh<N>(log_diffuse_, n);
+    for (std::size_t i = 0; i < with_brdf.size(); ++i) with_brdf[i] += brdf[i];
+    transfer = sh::exp_visibility<N>(with_brdf);
+    scale = std::numbers::pi_v<float>;  // the BRDF carried 1 / pi
+    if (visibility_out) *visibility_out = sh::exp_visibility<N>(log_v);
+  }
+  return scale * glm::vec3(sh::dot<N>(radiance[0], transfer), sh::dot<N>(radiance[1], transfer),
+                           sh::dot<N>(radiance[2], transfer));
+}
+
+template <int N>
+void BlockerAccumulation<N>::shade(const sh::CoeffsRgb<N>& radiance,
+                                   std::span<const glm::vec3> points,
+                                   std::span<const glm::vec3> normals,
+                                   std::span<sh::Coeffs<N>> visibility,
+                                   std::span<glm::vec3> irradiance_out) const {
+  if (normals.size() != points.size() || irradiance_out.size() != points.size() ||
+      (!visibility.empty() && visibility.size() != points.size()))
+    throw std::invalid_argument("blocker shade: points, normals and outputs differ in size");
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!finite(points[i]) || !finite(normals[i]))
+      throw std::invalid_argument("receiver " + std::to_string(i) + ": point " + str(points[i]) +
+                                  " or normal " + str(normals[i]) + " is not finite");
+    irradiance_out[i] = irradiance(radiance, points[i], normals[i],
+                                   visibility.empty() ? nullptr : &visibility[i]);
+  }
+}
+
+template class BlockerAccumulation<3>;
+template class BlockerAccumulation<4>;
+template class BlockerAccumulation<5>;
+template class BlockerAccumulation<6>;
+
+}  // namespace penumbra::blocker_accumulation

@@ -1,0 +1,147 @@
+#include "penumbra/systems/blocker_accumulation/blocker_systems.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/matrix.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "penumbra/components/environment_light.h"
+#include "penumbra/components/receiver.h"
+#include "penumbra/components/receiver_lighting.h"
+#include "penumbra/components/sphere_set.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/sh/rotation.h"
+
+namespace penumbra::blocker_accumulation {
+namespace {
+
+using components::EnvironmentLight;
+using components::Receiver;
+using components::ReceiverLighting;
+using components::SphereSet;
+using components::Transform;
+
+constexpr int N = kSystemBands;
+static_assert(N == ReceiverLighting::kBands);
+
+std::string entity_name(ecs::Entity e) {
+  return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
+}
+
+bool finite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      if (!std::isfinite(m[c][r])) return false;
+  return true;
+}
+
+void gather(ecs::World& w) {
+  BlockerField& field = w.resource<BlockerField>();
+  const BlockerSettings& settings = w.resource<const BlockerSettingsResource>().settings;
+  if (!field.accumulation || !(field.accumulation->settings() == settings))
+    field.accumulation = std::make_shared<BlockerAccumulation<N>>(settings);
+  field.errors.clear();
+  std::vector<WorldSphere> spheres;
+  w.query<const SphereSet, const Transform>().each(
+      [&](ecs::Entity e, const SphereSet& set, const Transform& t) {
+        if (!set.spheres) return;
+        if (!finite(t.world)) {
+          field.errors.push_back(entity_name(e) + ": transform is not finite; its spheres are "
+                                                  "left out");
+          return;
+        }
+        const glm::mat3 m(t.world);
+        const float scale =
+            std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
+        const std::size_t first = spheres.size();
+        for (std::size_t k = 0; k < set.spheres->size(); ++k) {
+          const components::Sphere& s = (*set.spheres)[k];
+          const glm::vec3 c = glm::vec3(t.world * glm::vec4(s.centre, 1.0f));
+          const float r = s.radius * scale;
+          if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) ||
+              !(std::isfinite(r) && r >= 0)) {
+            field.errors.push_back(entity_name(e) + ": sphere " + std::to_string(k) +
+                                   " is not finite or has a negative radius; its spheres are "
+                                   "left out");
+            spheres.resize(first);
+            return;
+          }
+          spheres.push_back({c, r});
+        }
+      });
+  field.accumulation->set_blockers(std::move(spheres));
+}
+
+void shade(ecs::World& w) {
+  BlockerField& field = w.resource<BlockerField>();
+  if (!field.accumulation) return;
+  const BlockerAccumulation<N>& acc = *field.accumulation;
+  sh::CoeffsRgb<N> radiance{};
+  if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>())
+    for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+  field.receivers = 0;
+  w.query<const Receiver, const Transform, ReceiverLighting>().each(
+      [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
+        if (!r.points || !r.normals || r.points->size() != r.normals->size()) {
+          field.errors.push_back(entity_name(e) + ": receiver points and normals differ");
+          return;
+        }
+        const std::size_t n = r.points->size();
+        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(t.world)));
+        auto visibility = std::make_shared<std::vector<ReceiverLighting::Visibility>>(n);
+        auto irradiance = std::make_shared<std::vector<glm::vec3>>(n);
+        std::mutex error_mutex;
+        std::string error;
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
+                          [&](const tbb::blocked_range<std::size_t>& range) {
+                            for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                              const glm::vec3 p =
+                                  glm::vec3(t.world * glm::vec4((*r.points)[i], 1.0f));
+                              glm::vec3 nn = normal_matrix * (*r.normals)[i];
+                              const float len = glm::length(nn);
+                              if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
+                                  !std::isfinite(p.y) || !std::isfinite(p.z)) {
+                                std::lock_guard lock(error_mutex);
+                                error = entity_name(e) + ": receiver point " +
+                                        std::to_string(i) + " or its normal is not finite";
+                                return;
+                              }
+                              nn /= len;
+                              (*irradiance)[i] =
+                                  acc.irradiance(radiance, p, nn, &(*visibility)[i]);
+                            }
+                          });
+        if (!error.empty()) {
+          field.errors.push_back(error + "; its lighting is left as it was");
+          return;
+        }
+        out.visibility = std::move(visibility);
+        out.irradiance = std::move(irradiance);
+        field.receivers += n;
+      });
+}
+
+}  // namespace
+
+void emplace_blocker_resources(ecs::World& world, const BlockerSettings& settings) {
+  if (!world.try_resource<BlockerSettingsResource>())
+    world.emplace_resource<BlockerSettingsResource>(BlockerSettingsResource{settings});
+  if (!world.try_resource<BlockerField>()) world.emplace_resource<BlockerField>();
+}
+
+void add_blocker_systems(jobs::Schedule& schedule) {
+  schedule.add_task("blockers.gather", [](jobs::SystemContext& ctx) { gather(ctx.world()); })
+      .reads<SphereSet, Transform, BlockerSettingsResource>()
+      .writes<BlockerField>();
+  schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
+      .reads<Receiver, Transform, EnvironmentLight>()
+      .writes<BlockerField, ReceiverLighting>();
+}
+
+}  // namespace penumbra::blocker_accumulation
