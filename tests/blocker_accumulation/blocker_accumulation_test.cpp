@@ -118,9 +118,11 @@ TEST(BlockerAccuracy, OneSphereOverAPlane) {
 }
 
 TEST(BlockerAccuracy, OverlappingSpheres) {
-  const std::vector<WorldSphere> five = {
-      {{0, 0, 2}, 1}, {{0.8f, 0, 2.2f}, 0.8f}, {{-0.7f, 0.3f, 1.8f}, 0.9f},
-      {{0.2f, -0.6f, 2.5f}, 0.7f}, {{0, 0.5f, 2.8f}, 0.6f}};
+  const std::vector<WorldSphere> five = {{{0, 0, 2}, 1},
+                                         {{0.8f, 0, 2.2f}, 0.8f},
+                                         {{-0.7f, 0.3f, 1.8f}, 0.9f},
+                                         {{0.2f, -0.6f, 2.5f}, 0.7f},
+                                         {{0, 0.5f, 2.8f}, 0.6f}};
   BlockerSettings off, on;
   on.blocker.ratio = RatioAttenuation::kOn;
   const Errors a = measure(uniform_sky(), five, off);
@@ -147,8 +149,9 @@ TEST(BlockerStability, ManyOverlappingBlockersStayFiniteAndBounded) {
       std::printf("%4d blockers, ratio %s: E / open sky = %.3f\n", m,
                   ratio == RatioAttenuation::kOn ? "on " : "off", e.y / open);
       ASSERT_TRUE(std::isfinite(e.y)) << m;
-      // Exact for any m: one sphere's shadow, E / open = 1 - sin^2 30deg cos 14deg = 0.77. The depth limit keeps every m
-      // within 0.1 of it (without it, 6 or more read as no shadow at all).
+      // Exact for any m: one sphere's shadow, E / open = 1 - sin^2 30deg cos 14deg = 0.77. The
+      // depth limit keeps every m within 0.1 of it (without it, 6 or more read as no shadow at
+      // all).
       EXPECT_NEAR(e.y / open, 0.77f, 0.1f) << m;
     }
 }

@@ -9,11 +9,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/sphere_set.h"
+#include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/jobs/executor.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -49,7 +52,9 @@ struct Scene {
   const std::vector<glm::vec3>& irradiance() {
     return *world.get<ReceiverLighting>(ground)->irradiance;
   }
-  glm::vec3 at(int x, int y) { return irradiance()[static_cast<std::size_t>(y + 10) * 21 + x + 10]; }
+  glm::vec3 at(int x, int y) {
+    return irradiance()[static_cast<std::size_t>(y + 10) * 21 + x + 10];
+  }
 };
 
 TEST(BlockerSystems, BlockerShadowsTheGroundUnderItAndFollowsItsTransform) {
@@ -57,7 +62,7 @@ TEST(BlockerSystems, BlockerShadowsTheGroundUnderItAndFollowsItsTransform) {
   s.executor.run(s.schedule, s.world);
   ASSERT_NE(s.world.get<ReceiverLighting>(s.ground)->irradiance, nullptr);
   const float pi = std::numbers::pi_v<float>;
-  EXPECT_LT(s.at(0, 0).x, 0.7f * pi);          // under the boulder
+  EXPECT_LT(s.at(0, 0).x, 0.7f * pi);           // under the boulder
   EXPECT_NEAR(s.at(10, 10).x, pi, 0.03f * pi);  // far corner: open sky
   EXPECT_EQ(s.world.get<ReceiverLighting>(s.ground)->visibility->size(), 441u);
   EXPECT_EQ(s.world.resource<BlockerField>().receivers, 441u);
@@ -90,6 +95,46 @@ TEST(BlockerSystems, NonFiniteInputIsNamedAndLeftOut) {
     named |= m.find("entity " + std::to_string(e.index)) != std::string::npos;
   EXPECT_TRUE(named);
   EXPECT_EQ(s.world.get<ReceiverLighting>(e)->irradiance, nullptr);
+}
+
+// With the terrain shadow system: the blocker darkens the terrain's texels under it, and the
+// terrain system's own lighting comes back when the blocker leaves.
+TEST(BlockerSystems, BlockerShadowsTheTerrainAndTheBaseReturns) {
+  ecs::World world;
+  jobs::Schedule schedule;
+  jobs::Executor executor(2);
+  terrain_shadow::TerrainShadowConfig config;
+  config.azimuths = 8;
+  terrain_shadow::emplace_terrain_shadow_resources(world, config);
+  emplace_blocker_resources(world);
+  auto& env = world.emplace_resource<components::EnvironmentLight>();
+  for (auto& c : env.radiance) c[0] = std::sqrt(4 * std::numbers::pi_v<float>);
+  env.version = 1;
+  auto field = std::make_shared<data::HeightField>();
+  field->width = field->height = 33;
+  field->cell_size = 1;
+  field->heights.assign(33 * 33, 0.0f);
+  field->source = "flat 33";
+  const ecs::Entity terrain = world.create_with(components::Terrain{field, {-16.0f, -16.0f, 0.0f}},
+                                                components::TerrainLighting{});
+  auto spheres = std::make_shared<std::vector<Sphere>>(std::vector<Sphere>{{{0, 0, 0}, 2.0f, -1}});
+  const ecs::Entity boulder =
+      world.create_with(SphereSet{spheres}, Transform{glm::translate(glm::mat4(1), {0, 0, 3})});
+  terrain_shadow::add_terrain_shadow_systems(schedule);
+  add_blocker_systems(schedule);
+  const auto texel = [&](int x, int y) {
+    return (*world.get<components::TerrainLighting>(terrain)->rgb)[(y + 16) * 33 + x + 16].x;
+  };
+  for (int i = 0; i < 3; ++i) executor.run(schedule, world);  // state arrives, then shading
+  const float open = (*world.get<BlockerTerrainState>(terrain)->base)[16 * 33 + 16].x;
+  EXPECT_GT(open, 0.0f);
+  EXPECT_LT(texel(0, 0), 0.75f * open);
+  EXPECT_GT(world.get<BlockerTerrainState>(terrain)->reached, 0u);
+  world.get_mut<Transform>(boulder)->world = glm::translate(glm::mat4(1), {0, 0, 500});
+  executor.run(schedule, world);
+  EXPECT_NEAR(texel(0, 0), open, 1e-4f * open);
+  EXPECT_EQ(world.get<components::TerrainLighting>(terrain)->rgb,
+            world.get<BlockerTerrainState>(terrain)->base);
 }
 
 }  // namespace

@@ -108,7 +108,7 @@ TEST(SphereBlocker, CrossingTheTangentPlaneAndTheReceiverDoesNotPop) {
   std::printf("lowering: largest step %.5f (%.3f%% of pi), range %.3f..%.3f\n", worst,
               100 * worst / pi, lowest, highest);
   EXPECT_LT(worst, 0.01f * pi);
-  EXPECT_LT(lowest, 0.5f * pi);   // it did shadow on the way
+  EXPECT_LT(lowest, 0.5f * pi);       // it did shadow on the way
   EXPECT_NEAR(prev, pi, 0.02f * pi);  // and wholly below it is gone (SH ringing aside)
 
   worst = 0;

@@ -88,7 +88,8 @@ sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::
       if (!(v.weight > 0)) continue;
       add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
       contributors.weight += v.weight;
-      if (contributors.count < Contributors::kMaxAxes) contributors.axes[contributors.count++] = v.axis;
+      if (contributors.count < Contributors::kMaxAxes)
+        contributors.axes[contributors.count++] = v.axis;
     }
   return sum;
 }
@@ -99,7 +100,7 @@ sh::Coeffs<N> BlockerAccumulation<N>::log_visibility(const glm::vec3& p, const g
   sh::Coeffs<N> sum = accumulate(p, n, c);
   const float max_depth = settings_.blocker.max_depth;
   if (!(max_depth > 0) || c.weight <= max_depth) return sum;  // cannot be that deep
-  float deepest = 0;  // in units of log eps (positive)
+  float deepest = 0;                                          // in units of log eps (positive)
   for (int k = 0; k < c.count; ++k)
     deepest = std::max(deepest, sh::evaluate<N>(sum, c.axes[k]) / log_eps_);
   if (deepest > max_depth) {
@@ -150,8 +151,8 @@ void BlockerAccumulation<N>::shade(const sh::CoeffsRgb<N>& radiance,
     if (!finite(points[i]) || !finite(normals[i]))
       throw std::invalid_argument("receiver " + std::to_string(i) + ": point " + str(points[i]) +
                                   " or normal " + str(normals[i]) + " is not finite");
-    irradiance_out[i] = irradiance(radiance, points[i], normals[i],
-                                   visibility.empty() ? nullptr : &visibility[i]);
+    irradiance_out[i] =
+        irradiance(radiance, points[i], normals[i], visibility.empty() ? nullptr : &visibility[i]);
   }
 }
 

@@ -4,19 +4,23 @@
 #include <cmath>
 #include <mutex>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/sphere_set.h"
+#include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/sh/rotation.h"
+#include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
+#include "penumbra/systems/terrain_shadow/terrain_horizons.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -41,6 +45,13 @@ bool finite(const glm::mat4& m) {
   return true;
 }
 
+sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
+  sh::CoeffsRgb<N> radiance{};
+  if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>())
+    for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+  return radiance;
+}
+
 void gather(ecs::World& w) {
   BlockerField& field = w.resource<BlockerField>();
   const BlockerSettings& settings = w.resource<const BlockerSettingsResource>().settings;
@@ -52,13 +63,13 @@ void gather(ecs::World& w) {
       [&](ecs::Entity e, const SphereSet& set, const Transform& t) {
         if (!set.spheres) return;
         if (!finite(t.world)) {
-          field.errors.push_back(entity_name(e) + ": transform is not finite; its spheres are "
-                                                  "left out");
+          field.errors.push_back(entity_name(e) +
+                                 ": transform is not finite; its spheres are "
+                                 "left out");
           return;
         }
         const glm::mat3 m(t.world);
-        const float scale =
-            std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
+        const float scale = std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
         const std::size_t first = spheres.size();
         for (std::size_t k = 0; k < set.spheres->size(); ++k) {
           const components::Sphere& s = (*set.spheres)[k];
@@ -82,9 +93,7 @@ void shade(ecs::World& w) {
   BlockerField& field = w.resource<BlockerField>();
   if (!field.accumulation) return;
   const BlockerAccumulation<N>& acc = *field.accumulation;
-  sh::CoeffsRgb<N> radiance{};
-  if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>())
-    for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+  const sh::CoeffsRgb<N> radiance = environment_radiance(w);
   field.receivers = 0;
   w.query<const Receiver, const Transform, ReceiverLighting>().each(
       [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
@@ -108,13 +117,12 @@ void shade(ecs::World& w) {
                               if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
                                   !std::isfinite(p.y) || !std::isfinite(p.z)) {
                                 std::lock_guard lock(error_mutex);
-                                error = entity_name(e) + ": receiver point " +
-                                        std::to_string(i) + " or its normal is not finite";
+                                error = entity_name(e) + ": receiver point " + std::to_string(i) +
+                                        " or its normal is not finite";
                                 return;
                               }
                               nn /= len;
-                              (*irradiance)[i] =
-                                  acc.irradiance(radiance, p, nn, &(*visibility)[i]);
+                              (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i]);
                             }
                           });
         if (!error.empty()) {
@@ -124,6 +132,46 @@ void shade(ecs::World& w) {
         out.visibility = std::move(visibility);
         out.irradiance = std::move(irradiance);
         field.receivers += n;
+      });
+}
+
+void shade_terrain(jobs::SystemContext& ctx) {
+  ecs::World& w = ctx.world();
+  const BlockerField& field = w.resource<const BlockerField>();
+  if (!field.accumulation) return;
+  const BlockerAccumulation<N>& acc = *field.accumulation;
+  const sh::CoeffsRgb<N> radiance = environment_radiance(w);
+  const float log_eps = std::log(acc.settings().blocker.epsilon);
+  w.query<const components::Terrain, const terrain_shadow::TerrainHorizons,
+          components::TerrainLighting>()
+      .each([&](ecs::Entity e, const components::Terrain& terrain,
+                const terrain_shadow::TerrainHorizons& h, components::TerrainLighting& lighting) {
+        BlockerTerrainState* state = w.get_mut<BlockerTerrainState>(e);
+        if (!state) {  // arrives at the next sync point
+          ctx.commands().add(e, BlockerTerrainState{});
+          return;
+        }
+        if (lighting.rgb != state->published) state->base = lighting.rgb;  // compose republished
+        if (!state->base || !terrain.heights || !h.horizons || !h.normals ||
+            h.horizons->azimuths < 3)
+          return;
+        if (!state->wedges || state->wedges->azimuths() != h.horizons->azimuths ||
+            state->wedges->log_eps() != log_eps)
+          state->wedges =
+              std::make_shared<terrain_shadow::LogWedge<N>>(h.horizons->azimuths, log_eps);
+        const TerrainReceivers t{terrain.heights.get(), terrain.origin, terrain.height_scale,
+                                 h.horizons.get(), h.normals.get()};
+        TerrainShadeStats stats;
+        auto shaded = std::make_shared<const std::vector<glm::vec3>>(
+            shade_terrain_receivers<N>(t, acc, *state->wedges, radiance, *state->base, &stats));
+        state->reached = stats.reached;
+        if (stats.changed == 0) {
+          lighting.rgb = state->base;
+          state->published = state->base;
+          return;
+        }
+        lighting.rgb = shaded;
+        state->published = std::move(shaded);
       });
 }
 
@@ -142,6 +190,10 @@ void add_blocker_systems(jobs::Schedule& schedule) {
   schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
       .reads<Receiver, Transform, EnvironmentLight>()
       .writes<BlockerField, ReceiverLighting>();
+  schedule.add_task("blockers.terrain", shade_terrain)
+      .reads<components::Terrain, terrain_shadow::TerrainHorizons, BlockerField, EnvironmentLight>()
+      .writes<components::TerrainLighting, BlockerTerrainState>()
+      .structural<BlockerTerrainState>();
 }
 
 }  // namespace penumbra::blocker_accumulation

@@ -9,6 +9,12 @@
 //       then visibility and irradiance per point (tbb::parallel_for over blocks of points),
 //       published as new shared arrays. Receivers whose points are not finite are named in
 //       BlockerField::errors and keep their previous lighting.
+//   blockers.terrain reads Terrain, TerrainHorizons, BlockerField, EnvironmentLight; writes
+//       TerrainLighting, BlockerTerrainState (adds it to a terrain, structural)
+//       The blockers' shadows on the terrain's texels (terrain_receivers.h): the terrain
+//       system's lighting is kept as the base (BlockerTerrainState) and the shadowed copy
+//       published in TerrainLighting; with no blocker in reach the base is published again.
+//       Register after add_terrain_shadow_systems, so it runs after terrain_shadow.compose.
 //
 // The environment is optional (absent: black, visibility still computed); its SH is rotated by
 // rotation_z. Entities with a SphereSet shadow their own receivers too (the plane rule of
@@ -22,6 +28,7 @@
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
+#include "penumbra/systems/terrain_shadow/log_wedge.h"
 
 namespace penumbra::blocker_accumulation {
 
@@ -37,6 +44,14 @@ struct BlockerField {
   std::shared_ptr<BlockerAccumulation<kSystemBands>> accumulation;
   std::vector<std::string> errors;  // this frame's rejected inputs, each naming its entity
   std::size_t receivers = 0;        // receiver points shaded this frame
+};
+
+// Per terrain entity: what blockers.terrain keeps between frames.
+struct BlockerTerrainState {
+  std::shared_ptr<const std::vector<glm::vec3>> base;       // the terrain system's lighting
+  std::shared_ptr<const std::vector<glm::vec3>> published;  // ours, with the blockers' shadows
+  std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> wedges;
+  std::size_t reached = 0;  // texels within some blocker's reach, last frame
 };
 
 // Adds BlockerSettingsResource (with `settings`) and BlockerField when absent.

@@ -40,7 +40,8 @@ struct SphereBlockerSettings {
   RatioAttenuation ratio = RatioAttenuation::kOff;
   float min_sin = 0.02f;  // skip blockers smaller than this (sin of the angular radius)
   // Deepest log-visibility, in blockers (units of log eps), handed to the exponential: where
-  // overlapping caps sum deeper, the whole sum is scaled back to this depth (blocker_accumulation.h).
+  // overlapping caps sum deeper, the whole sum is scaled back to this depth
+  // (blocker_accumulation.h).
   float max_depth = 3.0f;
   bool operator==(const SphereBlockerSettings&) const = default;
 };
