@@ -120,6 +120,13 @@ TEST(BlockerSystems, BlockerShadowsTheTerrainAndTheBaseReturns) {
   auto spheres = std::make_shared<std::vector<Sphere>>(std::vector<Sphere>{{{0, 0, 0}, 2.0f, -1}});
   const ecs::Entity boulder =
       world.create_with(SphereSet{spheres}, Transform{glm::translate(glm::mat4(1), {0, 0, 3})});
+  // A receiver 1 m above the ground, facing sideways: the ground below hides half its lobe
+  // ([Giraud] sec. 4.1 cast shadow); what the renderer shows is its VertexLighting.
+  auto point = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(0, 0, 0));
+  auto side = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(1, 0, 0));
+  const ecs::Entity post = world.create_with(
+      Receiver{point, side}, Transform{glm::translate(glm::mat4(1), {10, 10, 1})},
+      ReceiverLighting{}, components::VertexLighting{});
   terrain_shadow::add_terrain_shadow_systems(schedule);
   add_blocker_systems(schedule);
   const auto texel = [&](int x, int y) {
@@ -130,6 +137,13 @@ TEST(BlockerSystems, BlockerShadowsTheTerrainAndTheBaseReturns) {
   EXPECT_GT(open, 0.0f);
   EXPECT_LT(texel(0, 0), 0.75f * open);
   EXPECT_GT(world.get<BlockerTerrainState>(terrain)->reached, 0u);
+  const float pi = std::numbers::pi_v<float>;
+  const float e_post = (*world.get<ReceiverLighting>(post)->irradiance)[0].x;
+  std::printf("sideways receiver over flat ground: E = %.3f pi (open sky 1, ground-hidden 0.5)\n",
+              e_post / pi);
+  EXPECT_LT(e_post, 0.75f * pi);
+  EXPECT_GT(e_post, 0.35f * pi);
+  EXPECT_NEAR((*world.get<components::VertexLighting>(post)->rgb)[0].x, e_post / pi, 1e-6f);
   world.get_mut<Transform>(boulder)->world = glm::translate(glm::mat4(1), {0, 0, 500});
   executor.run(schedule, world);
   EXPECT_NEAR(texel(0, 0), open, 1e-4f * open);

@@ -118,8 +118,11 @@ sh::Coeffs<N> BlockerAccumulation<N>::visibility(const glm::vec3& p, const glm::
 template <int N>
 glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
                                              const glm::vec3& n,
-                                             sh::Coeffs<N>* visibility_out) const {
-  const sh::Coeffs<N> log_v = log_visibility(p, n);
+                                             sh::Coeffs<N>* visibility_out,
+                                             const sh::Coeffs<N>* extra_log) const {
+  sh::Coeffs<N> log_v = log_visibility(p, n);
+  if (extra_log)
+    for (std::size_t i = 0; i < log_v.size(); ++i) log_v[i] += (*extra_log)[i];
   sh::Coeffs<N> transfer;
   float scale = 1;
   if (settings_.shading == BlockerShading::kProduct) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <numbers>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -20,6 +22,7 @@
 #include "penumbra/components/transform.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
+#include "penumbra/systems/terrain_shadow/cast_shadow.h"
 #include "penumbra/systems/terrain_shadow/terrain_horizons.h"
 
 namespace penumbra::blocker_accumulation {
@@ -32,6 +35,7 @@ using components::SphereSet;
 using components::Transform;
 
 constexpr int N = kSystemBands;
+constexpr int kCastAzimuths = 16;  // the cast shadow's horizons per receiving entity
 static_assert(N == ReceiverLighting::kBands);
 
 std::string entity_name(ecs::Entity e) {
@@ -95,8 +99,22 @@ void shade(ecs::World& w) {
   const BlockerAccumulation<N>& acc = *field.accumulation;
   const sh::CoeffsRgb<N> radiance = environment_radiance(w);
   field.receivers = 0;
+  const components::Terrain* terrain = nullptr;
+  w.query<const components::Terrain>().each([&](const components::Terrain& t) {
+    if (!terrain && t.heights) terrain = &t;
+  });
+  if (terrain && !field.cast_wedges)
+    field.cast_wedges = std::make_shared<terrain_shadow::LogWedge<N>>(
+        kCastAzimuths, std::log(acc.settings().blocker.epsilon));
   w.query<const Receiver, const Transform, ReceiverLighting>().each(
       [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
+        std::optional<sh::Coeffs<N>> cast;
+        if (terrain) {
+          const glm::vec3 at = glm::vec3(t.world[3]) - terrain->origin;
+          if (std::isfinite(at.x) && std::isfinite(at.y) && std::isfinite(at.z))
+            cast = terrain_shadow::cast_shadow_log_visibility<N>(  // [Giraud] sec. 4.1
+                *terrain->heights, terrain->height_scale, at, *field.cast_wedges);
+        }
         if (!r.points || !r.normals || r.points->size() != r.normals->size()) {
           field.errors.push_back(entity_name(e) + ": receiver points and normals differ");
           return;
@@ -122,12 +140,19 @@ void shade(ecs::World& w) {
                                 return;
                               }
                               nn /= len;
-                              (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i]);
+                              (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i],
+                                                                cast ? &*cast : nullptr);
                             }
                           });
         if (!error.empty()) {
           field.errors.push_back(error + "; its lighting is left as it was");
           return;
+        }
+        if (components::VertexLighting* shown = w.get_mut<components::VertexLighting>(e)) {
+          auto rgb = std::make_shared<std::vector<glm::vec3>>(n);
+          for (std::size_t i = 0; i < n; ++i)
+            (*rgb)[i] = (*irradiance)[i] * std::numbers::inv_pi_v<float>;
+          shown->rgb = std::move(rgb);
         }
         out.visibility = std::move(visibility);
         out.irradiance = std::move(irradiance);
@@ -188,8 +213,8 @@ void add_blocker_systems(jobs::Schedule& schedule) {
       .reads<SphereSet, Transform, BlockerSettingsResource>()
       .writes<BlockerField>();
   schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
-      .reads<Receiver, Transform, EnvironmentLight>()
-      .writes<BlockerField, ReceiverLighting>();
+      .reads<Receiver, Transform, EnvironmentLight, components::Terrain>()
+      .writes<BlockerField, ReceiverLighting, components::VertexLighting>();
   schedule.add_task("blockers.terrain", shade_terrain)
       .reads<components::Terrain, terrain_shadow::TerrainHorizons, BlockerField, EnvironmentLight>()
       .writes<components::TerrainLighting, BlockerTerrainState>()

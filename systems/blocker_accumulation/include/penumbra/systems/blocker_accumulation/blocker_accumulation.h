@@ -62,9 +62,12 @@ class BlockerAccumulation {
   // The visibility itself: one exponential of that sum.
   sh::Coeffs<N> visibility(const glm::vec3& p, const glm::vec3& n) const;
   // Irradiance (per channel of `radiance`, SH of the distant radiance) at p with unit normal n.
-  // `visibility_out`, when given, receives the visibility SH.
+  // `visibility_out`, when given, receives the visibility SH. `extra_log`, when given, is more
+  // log-SH visibility added to the blockers' sum before the exponential (the terrain's cast
+  // shadow, [Giraud] sec. 4.1), so all of it shadows in one exponential.
   glm::vec3 irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p, const glm::vec3& n,
-                       sh::Coeffs<N>* visibility_out = nullptr) const;
+                       sh::Coeffs<N>* visibility_out = nullptr,
+                       const sh::Coeffs<N>* extra_log = nullptr) const;
   // irradiance() for many receivers; `visibility` may be empty (not wanted) or one per point.
   void shade(const sh::CoeffsRgb<N>& radiance, std::span<const glm::vec3> points,
              std::span<const glm::vec3> normals, std::span<sh::Coeffs<N>> visibility,

@@ -4,11 +4,15 @@
 //       Every entity's spheres moved to world space (centre by the Transform, radius by its
 //       largest axis scale) into one BlockerAccumulation and its spatial grid. An entity whose
 //       spheres or transform are not finite is left out and named in BlockerField::errors.
-//   blockers.shade   reads Receiver, Transform, BlockerField, EnvironmentLight; writes
-//       ReceiverLighting. Per entity with all three: its points and normals to world space,
+//   blockers.shade   reads Receiver, Transform, BlockerField, EnvironmentLight, Terrain; writes
+//       ReceiverLighting, VertexLighting. Per entity with all three: its points and normals to world space,
 //       then visibility and irradiance per point (tbb::parallel_for over blocks of points),
-//       published as new shared arrays. Receivers whose points are not finite are named in
-//       BlockerField::errors and keep their previous lighting.
+//       published as new shared arrays (and as VertexLighting, irradiance / pi, when the entity
+//       has one: what the renderer shows). Receivers whose points are not finite are named in
+//       BlockerField::errors and keep their previous lighting. With a Terrain in the world, its
+//       cast shadow ([Giraud] sec. 4.1, log-SH wedges) joins the blockers' sum: evaluated once
+//       per entity, at its Transform's origin (an object small against the terrain's texels
+//       sees one horizon; per point it would cost ~10 us each).
 //   blockers.terrain reads Terrain, TerrainHorizons, BlockerField, EnvironmentLight; writes
 //       TerrainLighting, BlockerTerrainState (adds it to a terrain, structural)
 //       The blockers' shadows on the terrain's texels (terrain_receivers.h): the terrain
@@ -44,6 +48,8 @@ struct BlockerField {
   std::shared_ptr<BlockerAccumulation<kSystemBands>> accumulation;
   std::vector<std::string> errors;  // this frame's rejected inputs, each naming its entity
   std::size_t receivers = 0;        // receiver points shaded this frame
+  // The terrain's log-SH wedges for the cast shadow on receivers (built on first use).
+  std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> cast_wedges;
 };
 
 // Per terrain entity: what blockers.terrain keeps between frames.
