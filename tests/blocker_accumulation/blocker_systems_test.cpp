@@ -35,6 +35,7 @@ struct Scene {
   jobs::Executor executor{2};
   Scene() {
     emplace_blocker_resources(world);
+    world.resource<BlockerSettingsResource>().refresh_period = 1;  // every frame
     auto& env = world.emplace_resource<components::EnvironmentLight>();
     env.radiance[0][0] = env.radiance[1][0] = env.radiance[2][0] =
         std::sqrt(4 * std::numbers::pi_v<float>);  // uniform unit sky
@@ -73,6 +74,26 @@ TEST(BlockerSystems, BlockerShadowsTheGroundUnderItAndFollowsItsTransform) {
   EXPECT_LT(s.at(8, 8).x, 0.7f * pi);
 }
 
+// With a refresh period of 4 a receiving entity is re-shaded once in every 4 frames: a moved
+// blocker shows within 4 frames, and not every frame pays for every receiver.
+TEST(BlockerSystems, RefreshPeriodSpreadsReceiversOverFrames) {
+  Scene s;
+  s.world.resource<BlockerSettingsResource>().refresh_period = 4;
+  s.executor.run(s.schedule, s.world);  // a new receiver is shaded at once
+  ASSERT_NE(s.world.get<ReceiverLighting>(s.ground)->irradiance, nullptr);
+  const float under = s.at(0, 0).x;
+  s.world.get_mut<Transform>(s.boulder)->world = glm::translate(glm::mat4(1), {8, 8, 2.5f});
+  int frames = 0, shaded = 0;
+  while (s.at(0, 0).x == under && frames < 8) {
+    s.executor.run(s.schedule, s.world);
+    ++frames;
+    shaded += s.world.resource<BlockerField>().receivers > 0;
+  }
+  EXPECT_LE(frames, 4);
+  EXPECT_GT(s.at(0, 0).x, under);
+  EXPECT_EQ(shaded, 1);
+}
+
 TEST(BlockerSystems, NonFiniteInputIsNamedAndLeftOut) {
   Scene s;
   s.executor.run(s.schedule, s.world);
@@ -107,6 +128,7 @@ TEST(BlockerSystems, BlockerShadowsTheTerrainAndTheBaseReturns) {
   config.azimuths = 8;
   terrain_shadow::emplace_terrain_shadow_resources(world, config);
   emplace_blocker_resources(world);
+  world.resource<BlockerSettingsResource>().refresh_period = 1;
   auto& env = world.emplace_resource<components::EnvironmentLight>();
   for (auto& c : env.radiance) c[0] = std::sqrt(4 * std::numbers::pi_v<float>);
   env.version = 1;

@@ -1,11 +1,13 @@
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 #include <string>
 
 #include <glm/common.hpp>
+#include <glm/geometric.hpp>
 
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
@@ -52,7 +54,8 @@ BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
     : settings_(settings),
       log_eps_(std::log(settings.blocker.epsilon)),
       clamped_cosine_(sh::zh_clamped_cosine<N>()),
-      log_diffuse_(log_diffuse_zh(settings.brdf_epsilon)) {
+      log_diffuse_(log_diffuse_zh(settings.brdf_epsilon)),
+      cut_sin_(std::sin(80.0f / N * std::numbers::pi_v<float> / 180.0f)) {  // [Ren06] sec. 5
   const float eps = settings.blocker.epsilon;
   if (!(eps > 0 && eps < 1))
     throw std::invalid_argument("blocker epsilon " + std::to_string(eps) + " must be in (0, 1)");
@@ -63,7 +66,8 @@ BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
 }
 
 template <int N>
-void BlockerAccumulation<N>::set_blockers(std::vector<WorldSphere> spheres) {
+void BlockerAccumulation<N>::set_blockers(std::vector<WorldSphere> spheres,
+                                          std::vector<BlockerGroup> groups) {
   for (std::size_t i = 0; i < spheres.size(); ++i) {
     if (!finite(spheres[i].centre))
       throw std::invalid_argument("blocker sphere " + std::to_string(i) + ": centre " +
@@ -72,24 +76,60 @@ void BlockerAccumulation<N>::set_blockers(std::vector<WorldSphere> spheres) {
       throw std::invalid_argument("blocker sphere " + std::to_string(i) + ": radius " +
                                   std::to_string(spheres[i].radius) + " must be finite and >= 0");
   }
+  if (groups.empty()) {
+    groups.reserve(spheres.size());
+    for (std::uint32_t i = 0; i < spheres.size(); ++i) groups.push_back({spheres[i], i, 1, 1.0f});
+  }
+  std::uint32_t next = 0;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (groups[g].first != next || groups[g].first + groups[g].count > spheres.size() ||
+        !finite(groups[g].bound.centre) || !(groups[g].bound.radius >= 0) ||
+        !(groups[g].coverage > 0 && groups[g].coverage <= 1))
+      throw std::invalid_argument("blocker group " + std::to_string(g) +
+                                  ": spheres out of order, bound not finite or coverage not in "
+                                  "(0, 1]");
+    next += groups[g].count;
+  }
+  if (next != spheres.size())
+    throw std::invalid_argument("blocker groups cover " + std::to_string(next) + " of " +
+                                std::to_string(spheres.size()) + " spheres");
   spheres_ = std::move(spheres);
-  grid_.build(spheres_, settings_.blocker.min_sin);
+  groups_ = std::move(groups);
+  std::vector<WorldSphere> bounds(groups_.size());
+  for (std::size_t g = 0; g < groups_.size(); ++g) bounds[g] = groups_[g].bound;
+  grid_.build(bounds, settings_.blocker.min_sin);
 }
 
 template <int N>
 sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::vec3& n,
                                                  Contributors& contributors) const {
   sh::Coeffs<N> sum{};
+  const auto add = [&](const WorldSphere& s, float scale) {
+    BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
+    v.weight *= scale;
+    if (!(v.weight > 0)) return;
+    add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
+    contributors.weight += v.weight;
+    if (contributors.count < Contributors::kMaxAxes)
+      contributors.axes[contributors.count++] = v.axis;
+  };
+  const bool cut = settings_.hierarchy == BlockerHierarchy::kObjects;
   const BlockerGrid::Candidates c = grid_.candidates(p);
   for (const auto list : {c.near, c.everywhere})
-    for (const std::uint32_t i : list) {
-      const WorldSphere& s = spheres_[i];
-      const BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
-      if (!(v.weight > 0)) continue;
-      add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
-      contributors.weight += v.weight;
-      if (contributors.count < Contributors::kMaxAxes)
-        contributors.axes[contributors.count++] = v.axis;
+    for (const std::uint32_t gi : list) {
+      const BlockerGroup& g = groups_[gi];
+      if (g.count == 1) {
+        add(spheres_[g.first], 1.0f);
+        continue;
+      }
+      // [Ren06]: below the cut the bound stands for its spheres; over [cut, 1.25 cut] the two
+      // are blended (in log space) so a receiver crossing the cut sees no step.
+      const float d = glm::length(g.bound.centre - p);
+      const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
+      const float a = cut ? std::clamp((s - cut_sin_) / (0.25f * cut_sin_), 0.0f, 1.0f) : 1.0f;
+      if (a < 1) add(g.bound, g.coverage * (1 - a));
+      if (a > 0)
+        for (std::uint32_t i = g.first; i < g.first + g.count; ++i) add(spheres_[i], a);
     }
   return sum;
 }
@@ -117,8 +157,7 @@ sh::Coeffs<N> BlockerAccumulation<N>::visibility(const glm::vec3& p, const glm::
 
 template <int N>
 glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
-                                             const glm::vec3& n,
-                                             sh::Coeffs<N>* visibility_out,
+                                             const glm::vec3& n, sh::Coeffs<N>* visibility_out,
                                              const sh::Coeffs<N>* extra_log) const {
   sh::Coeffs<N> log_v = log_visibility(p, n);
   if (extra_log)

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <optional>
@@ -56,13 +57,53 @@ sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   return radiance;
 }
 
+// A set's bound (in its own frame) and the fraction of the bound's disc its spheres cover,
+// averaged over the three axis projections on a 32 x 32 grid (for BlockerGroup::coverage).
+SetBound bound_of(const std::vector<components::Sphere>& spheres) {
+  SetBound b;
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const components::Sphere& s : spheres) {
+    lo = glm::min(lo, s.centre - s.radius);
+    hi = glm::max(hi, s.centre + s.radius);
+  }
+  if (spheres.empty()) return b;
+  b.centre = 0.5f * (lo + hi);
+  for (const components::Sphere& s : spheres)
+    b.radius = std::max(b.radius, glm::length(s.centre - b.centre) + s.radius);
+  if (!(b.radius > 0)) return b;
+  constexpr int kGrid = 32;
+  int inside = 0, covered = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i) {
+        const float x = b.radius * (2 * (i + 0.5f) / kGrid - 1);
+        const float y = b.radius * (2 * (j + 0.5f) / kGrid - 1);
+        if (x * x + y * y > b.radius * b.radius) continue;
+        ++inside;
+        for (const components::Sphere& s : spheres) {
+          const float dx = b.centre[u] + x - s.centre[u], dy = b.centre[v] + y - s.centre[v];
+          if (dx * dx + dy * dy <= s.radius * s.radius) {
+            ++covered;
+            break;
+          }
+        }
+      }
+  }
+  b.coverage = inside > 0 ? std::max(0.01f, static_cast<float>(covered) / inside) : 1.0f;
+  return b;
+}
+
 void gather(ecs::World& w) {
   BlockerField& field = w.resource<BlockerField>();
+  ++field.frame;
   const BlockerSettings& settings = w.resource<const BlockerSettingsResource>().settings;
   if (!field.accumulation || !(field.accumulation->settings() == settings))
     field.accumulation = std::make_shared<BlockerAccumulation<N>>(settings);
   field.errors.clear();
   std::vector<WorldSphere> spheres;
+  std::vector<BlockerGroup> groups;
+  std::erase_if(field.bounds, [](const auto& kv) { return kv.second.keep.use_count() <= 1; });
   w.query<const SphereSet, const Transform>().each(
       [&](ecs::Entity e, const SphereSet& set, const Transform& t) {
         if (!set.spheres) return;
@@ -89,8 +130,19 @@ void gather(ecs::World& w) {
           }
           spheres.push_back({c, r});
         }
+        auto [it, added] = field.bounds.try_emplace(set.spheres.get());
+        if (added) {
+          it->second = bound_of(*set.spheres);
+          it->second.keep = set.spheres;
+        }
+        const SetBound& sb = it->second;
+        const glm::vec3 bc = glm::vec3(t.world * glm::vec4(sb.centre, 1.0f));
+        groups.push_back({{bc, sb.radius * scale},
+                          static_cast<std::uint32_t>(first),
+                          static_cast<std::uint32_t>(spheres.size() - first),
+                          sb.coverage});
       });
-  field.accumulation->set_blockers(std::move(spheres));
+  field.accumulation->set_blockers(std::move(spheres), std::move(groups));
 }
 
 void shade(ecs::World& w) {
@@ -106,58 +158,87 @@ void shade(ecs::World& w) {
   if (terrain && !field.cast_wedges)
     field.cast_wedges = std::make_shared<terrain_shadow::LogWedge<N>>(
         kCastAzimuths, std::log(acc.settings().blocker.epsilon));
+  // Which entities this frame: every new one, then round robin from the cursor while the
+  // budget of points lasts (at least one entity per frame).
+  struct Item {
+    ecs::Entity e;
+    const Receiver* r;
+    const Transform* t;
+    ReceiverLighting* out;
+  };
+  std::vector<Item> all;
   w.query<const Receiver, const Transform, ReceiverLighting>().each(
       [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
-        std::optional<sh::Coeffs<N>> cast;
-        if (terrain) {
-          const glm::vec3 at = glm::vec3(t.world[3]) - terrain->origin;
-          if (std::isfinite(at.x) && std::isfinite(at.y) && std::isfinite(at.z))
-            cast = terrain_shadow::cast_shadow_log_visibility<N>(  // [Giraud] sec. 4.1
-                *terrain->heights, terrain->height_scale, at, *field.cast_wedges);
-        }
-        if (!r.points || !r.normals || r.points->size() != r.normals->size()) {
-          field.errors.push_back(entity_name(e) + ": receiver points and normals differ");
-          return;
-        }
-        const std::size_t n = r.points->size();
-        const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(t.world)));
-        auto visibility = std::make_shared<std::vector<ReceiverLighting::Visibility>>(n);
-        auto irradiance = std::make_shared<std::vector<glm::vec3>>(n);
-        std::mutex error_mutex;
-        std::string error;
-        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
-                          [&](const tbb::blocked_range<std::size_t>& range) {
-                            for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                              const glm::vec3 p =
-                                  glm::vec3(t.world * glm::vec4((*r.points)[i], 1.0f));
-                              glm::vec3 nn = normal_matrix * (*r.normals)[i];
-                              const float len = glm::length(nn);
-                              if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
-                                  !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                                std::lock_guard lock(error_mutex);
-                                error = entity_name(e) + ": receiver point " + std::to_string(i) +
-                                        " or its normal is not finite";
-                                return;
-                              }
-                              nn /= len;
-                              (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i],
-                                                                cast ? &*cast : nullptr);
-                            }
-                          });
-        if (!error.empty()) {
-          field.errors.push_back(error + "; its lighting is left as it was");
-          return;
-        }
-        if (components::VertexLighting* shown = w.get_mut<components::VertexLighting>(e)) {
-          auto rgb = std::make_shared<std::vector<glm::vec3>>(n);
-          for (std::size_t i = 0; i < n; ++i)
-            (*rgb)[i] = (*irradiance)[i] * std::numbers::inv_pi_v<float>;
-          shown->rgb = std::move(rgb);
-        }
-        out.visibility = std::move(visibility);
-        out.irradiance = std::move(irradiance);
-        field.receivers += n;
+        all.push_back({e, &r, &t, &out});
       });
+  const std::size_t budget = w.resource<const BlockerSettingsResource>().receiver_budget;
+  std::vector<Item> now;
+  std::size_t points = 0;
+  for (const Item& it : all)
+    if (!it.out->irradiance) {
+      now.push_back(it);
+      points += it.r->points ? it.r->points->size() : 0;
+    }
+  for (std::size_t k = 0; k < all.size() && (budget == 0 || points < budget || now.empty()); ++k) {
+    const Item& it = all[(field.cursor + k) % all.size()];
+    if (!it.out->irradiance) continue;
+    now.push_back(it);
+    points += it.r->points ? it.r->points->size() : 0;
+    ++field.cursor;
+  }
+  for (const Item& it : now) {
+    [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
+      std::optional<sh::Coeffs<N>> cast;
+      if (terrain) {
+        const glm::vec3 at = glm::vec3(t.world[3]) - terrain->origin;
+        if (std::isfinite(at.x) && std::isfinite(at.y) && std::isfinite(at.z))
+          cast = terrain_shadow::cast_shadow_log_visibility<N>(  // [Giraud] sec. 4.1
+              *terrain->heights, terrain->height_scale, at, *field.cast_wedges);
+      }
+      if (!r.points || !r.normals || r.points->size() != r.normals->size()) {
+        field.errors.push_back(entity_name(e) + ": receiver points and normals differ");
+        return;
+      }
+      const std::size_t n = r.points->size();
+      const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(t.world)));
+      auto visibility = std::make_shared<std::vector<ReceiverLighting::Visibility>>(n);
+      auto irradiance = std::make_shared<std::vector<glm::vec3>>(n);
+      std::mutex error_mutex;
+      std::string error;
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
+                        [&](const tbb::blocked_range<std::size_t>& range) {
+                          for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                            const glm::vec3 p =
+                                glm::vec3(t.world * glm::vec4((*r.points)[i], 1.0f));
+                            glm::vec3 nn = normal_matrix * (*r.normals)[i];
+                            const float len = glm::length(nn);
+                            if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
+                                !std::isfinite(p.y) || !std::isfinite(p.z)) {
+                              std::lock_guard lock(error_mutex);
+                              error = entity_name(e) + ": receiver point " + std::to_string(i) +
+                                      " or its normal is not finite";
+                              return;
+                            }
+                            nn /= len;
+                            (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i],
+                                                              cast ? &*cast : nullptr);
+                          }
+                        });
+      if (!error.empty()) {
+        field.errors.push_back(error + "; its lighting is left as it was");
+        return;
+      }
+      if (components::VertexLighting* shown = w.get_mut<components::VertexLighting>(e)) {
+        auto rgb = std::make_shared<std::vector<glm::vec3>>(n);
+        for (std::size_t i = 0; i < n; ++i)
+          (*rgb)[i] = (*irradiance)[i] * std::numbers::inv_pi_v<float>;
+        shown->rgb = std::move(rgb);
+      }
+      out.visibility = std::move(visibility);
+      out.irradiance = std::move(irradiance);
+      field.receivers += n;
+    }(it.e, *it.r, *it.t, *it.out);
+  }
 }
 
 void shade_terrain(jobs::SystemContext& ctx) {
@@ -186,15 +267,20 @@ void shade_terrain(jobs::SystemContext& ctx) {
               std::make_shared<terrain_shadow::LogWedge<N>>(h.horizons->azimuths, log_eps);
         const TerrainReceivers t{terrain.heights.get(), terrain.origin, terrain.height_scale,
                                  h.horizons.get(), h.normals.get()};
-        TerrainShadeStats stats;
-        auto shaded = std::make_shared<const std::vector<glm::vec3>>(
-            shade_terrain_receivers<N>(t, acc, *state->wedges, radiance, *state->base, &stats));
+        const int period = std::max(1, w.resource<const BlockerSettingsResource>().refresh_period);
+        const TerrainShadeStats stats = update_terrain_ratios<N>(
+            t, acc, *state->wedges, radiance, state->ratio,
+            static_cast<int>(field.frame % static_cast<std::uint64_t>(period)), period);
         state->reached = stats.reached;
-        if (stats.changed == 0) {
+        bool any = false;
+        for (const glm::vec3& q : state->ratio) any |= q != glm::vec3(1.0f);
+        if (!any || state->base->size() != state->ratio.size()) {
           lighting.rgb = state->base;
           state->published = state->base;
           return;
         }
+        auto shaded = std::make_shared<std::vector<glm::vec3>>(*state->base);
+        for (std::size_t i = 0; i < shaded->size(); ++i) (*shaded)[i] *= state->ratio[i];
         lighting.rgb = shaded;
         state->published = std::move(shaded);
       });
@@ -213,10 +299,11 @@ void add_blocker_systems(jobs::Schedule& schedule) {
       .reads<SphereSet, Transform, BlockerSettingsResource>()
       .writes<BlockerField>();
   schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
-      .reads<Receiver, Transform, EnvironmentLight, components::Terrain>()
+      .reads<Receiver, Transform, EnvironmentLight, components::Terrain, BlockerSettingsResource>()
       .writes<BlockerField, ReceiverLighting, components::VertexLighting>();
   schedule.add_task("blockers.terrain", shade_terrain)
-      .reads<components::Terrain, terrain_shadow::TerrainHorizons, BlockerField, EnvironmentLight>()
+      .reads<components::Terrain, terrain_shadow::TerrainHorizons, BlockerField, EnvironmentLight,
+             BlockerSettingsResource>()
       .writes<components::TerrainLighting, BlockerTerrainState>()
       .structural<BlockerTerrainState>();
 }

@@ -32,69 +32,93 @@ terrain_shadow::TexelRect reached_texels(const TerrainReceivers& t, const WorldS
 }
 
 template <int N>
-std::vector<glm::vec3> shade_terrain_receivers(const TerrainReceivers& t,
-                                               const BlockerAccumulation<N>& blockers,
-                                               const terrain_shadow::LogWedge<N>& wedges,
-                                               const sh::CoeffsRgb<N>& radiance,
-                                               const std::vector<glm::vec3>& base,
-                                               TerrainShadeStats* stats) {
+TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
+                                        const BlockerAccumulation<N>& blockers,
+                                        const terrain_shadow::LogWedge<N>& wedges,
+                                        const sh::CoeffsRgb<N>& radiance,
+                                        std::vector<glm::vec3>& ratio, int phase, int period) {
   const data::HeightField& f = *t.field;
   const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
-  if (base.size() != n || t.normals->size() != n || t.horizons->width != f.width ||
-      t.horizons->height != f.height || t.horizons->azimuths != wedges.azimuths())
+  if (t.normals->size() != n || t.horizons->width != f.width || t.horizons->height != f.height ||
+      t.horizons->azimuths != wedges.azimuths())
     throw std::invalid_argument("terrain receivers: " + f.source +
-                                ": lighting, normals or horizons do not match the field");
-  std::vector<glm::vec3> out = base;
+                                ": normals or horizons do not match the field");
+  if (period < 1) period = 1;
+  if (ratio.size() != n) ratio.assign(n, glm::vec3(1.0f));
   // Which texels some blocker reaches: a mask over the union of their rectangles.
   std::vector<unsigned char> mask(n, 0);
   const float min_sin = blockers.settings().blocker.min_sin;
-  int y_lo = f.height, y_hi = 0;
   for (const WorldSphere& s : blockers.blockers()) {
     const terrain_shadow::TexelRect r = reached_texels(t, s, min_sin);
-    if (r.empty()) continue;
-    y_lo = std::min(y_lo, r.y0);
-    y_hi = std::max(y_hi, r.y1);
     for (int y = r.y0; y < r.y1; ++y)
       std::fill_n(mask.begin() + static_cast<std::ptrdiff_t>(y) * f.width + r.x0, r.width(), 1);
   }
   const sh::Zonal<N> cosine = sh::zh_clamped_cosine<N>();
+  constexpr float kY00 = 0.28209479f;
+  constexpr float kNegligibleLog = 0.01f;  // about 1% of the visibility, averaged
   std::atomic<std::size_t> reached{0}, changed{0};
-  tbb::parallel_for(y_lo, std::max(y_lo, y_hi), [&](int y) {
+  tbb::parallel_for(0, f.height, [&](int y) {
+    if ((y % period) != phase % period) return;
     std::size_t row_reached = 0, row_changed = 0;
     for (int x = 0; x < f.width; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
+      ratio[i] = glm::vec3(1.0f);
       if (!mask[i]) continue;
       ++row_reached;
       const glm::vec3 p =
           t.origin + glm::vec3(x * f.cell_size, y * f.cell_size, t.height_scale * f.at(x, y));
       const glm::vec3& nn = (*t.normals)[i];
       const sh::Coeffs<N> blocked = blockers.log_visibility(p, nn);
-      bool any = false;
-      for (float c : blocked) any |= c != 0;
-      if (!any) continue;
+      // Mean log-visibility under half the threshold: no visible change, skipped; up to the
+      // threshold the ratio fades in, so the skipped region meets the shaded one without a step.
+      const float depth = -blocked[0] * kY00;
+      if (depth < 0.5f * kNegligibleLog) continue;
+      const float u = std::min(1.0f, (depth - 0.5f * kNegligibleLog) / (0.5f * kNegligibleLog));
+      const float fade = u * u * (3 - 2 * u);
       const sh::Coeffs<N> terrain = wedges.log_visibility(t.horizons->texel(x, y));
       sh::Coeffs<N> both = terrain;
       for (int k = 0; k < N * N; ++k) both[k] += blocked[k];  // one sum, one exponential
       const sh::Coeffs<N> lobe = sh::rotate_zh<N>(cosine, nn);
       const sh::Coeffs<N> t_alone = sh::product<N>(sh::exp_visibility<N>(terrain), lobe);
       const sh::Coeffs<N> t_both = sh::product<N>(sh::exp_visibility<N>(both), lobe);
-      glm::vec3 ratio(1.0f);
       for (int c = 0; c < 3; ++c) {
         const float alone = sh::dot<N>(radiance[c], t_alone);
         const float open = radiance[c][0] * 0.8862269f;  // sqrt(pi) / 2 L_00: open-sky irradiance
         if (alone > 1e-6f * std::abs(open))
-          ratio[c] = std::clamp(sh::dot<N>(radiance[c], t_both) / alone, 0.0f, 1.0f);
+          ratio[i][c] =
+              1 + fade * (std::clamp(sh::dot<N>(radiance[c], t_both) / alone, 0.0f, 1.0f) - 1);
       }
-      out[i] = base[i] * ratio;
       ++row_changed;
     }
     reached += row_reached;
     changed += row_changed;
   });
-  if (stats) *stats = {reached.load(), changed.load()};
+  return {reached.load(), changed.load()};
+}
+
+template <int N>
+std::vector<glm::vec3> shade_terrain_receivers(const TerrainReceivers& t,
+                                               const BlockerAccumulation<N>& blockers,
+                                               const terrain_shadow::LogWedge<N>& wedges,
+                                               const sh::CoeffsRgb<N>& radiance,
+                                               const std::vector<glm::vec3>& base,
+                                               TerrainShadeStats* stats) {
+  if (base.size() != static_cast<std::size_t>(t.field->width) * t.field->height)
+    throw std::invalid_argument("terrain receivers: " + t.field->source +
+                                ": lighting does not match the field");
+  std::vector<glm::vec3> ratio;
+  const TerrainShadeStats s = update_terrain_ratios<N>(t, blockers, wedges, radiance, ratio);
+  if (stats) *stats = s;
+  std::vector<glm::vec3> out = base;
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] *= ratio[i];
   return out;
 }
 
+template TerrainShadeStats update_terrain_ratios<4>(const TerrainReceivers&,
+                                                    const BlockerAccumulation<4>&,
+                                                    const terrain_shadow::LogWedge<4>&,
+                                                    const sh::CoeffsRgb<4>&,
+                                                    std::vector<glm::vec3>&, int, int);
 template std::vector<glm::vec3> shade_terrain_receivers<4>(
     const TerrainReceivers&, const BlockerAccumulation<4>&, const terrain_shadow::LogWedge<4>&,
     const sh::CoeffsRgb<4>&, const std::vector<glm::vec3>&, TerrainShadeStats*);

@@ -21,6 +21,8 @@
 // Errors: set_blockers throws std::invalid_argument naming the sphere (index) with a non-finite
 // centre or a non-finite or negative radius; shade() names a receiver with a non-finite point
 // or normal. A zero-radius sphere blocks nothing.
+// Cost: about 60 ns per receiver-sphere pair and 0.5 us per exponential and product (4 bands,
+// one core; docs/blocker_accumulation.md).
 // Threading: set_blockers on one thread; the const members from any number of threads.
 #pragma once
 
@@ -38,12 +40,26 @@ namespace penumbra::blocker_accumulation {
 
 enum class BlockerShading { kProduct, kLogBrdf };
 
+// [Ren06] hierarchy, two levels: an object's spheres under one bounding sphere. A receiver that
+// sees the bound smaller than the cut (angular radius 80 deg / N) takes the bound alone, its
+// log-visibility scaled by `coverage` (the fraction of the bound's disc the spheres cover, seen
+// from a distance), instead of every sphere of the object; over [cut, 1.25 cut] both, blended.
+enum class BlockerHierarchy { kOff, kObjects };
+
+struct BlockerGroup {
+  WorldSphere bound;        // contains every sphere of the group
+  std::uint32_t first = 0;  // the group's spheres: [first, first + count) of set_blockers'
+  std::uint32_t count = 0;
+  float coverage = 1;  // (0, 1]
+};
+
 struct BlockerSettings {
   SphereBlockerSettings blocker;
   BlockerShading shading = BlockerShading::kProduct;
   // kLogBrdf: the floor of max(cos / pi, eps) before its log. The diffuse lobe peaks at
   // 1 / pi = 0.32, so the blockers' 0.2 would flatten most of it (docs/blocker_accumulation.md).
   float brdf_epsilon = 0.01f;
+  BlockerHierarchy hierarchy = BlockerHierarchy::kObjects;
   bool operator==(const BlockerSettings&) const = default;
 };
 
@@ -53,7 +69,9 @@ class BlockerAccumulation {
   explicit BlockerAccumulation(const BlockerSettings& settings = {});
 
   const BlockerSettings& settings() const { return settings_; }
-  void set_blockers(std::vector<WorldSphere> spheres);
+  // `groups` empty: every sphere is its own group. Otherwise they must cover the spheres in
+  // order, without gaps (each group's bound is taken as given).
+  void set_blockers(std::vector<WorldSphere> spheres, std::vector<BlockerGroup> groups = {});
   std::span<const WorldSphere> blockers() const { return spheres_; }
   const BlockerGrid& grid() const { return grid_; }
 
@@ -91,7 +109,9 @@ class BlockerAccumulation {
   sh::Zonal<N> clamped_cosine_;
   sh::Zonal<N> log_diffuse_;  // of max(cos / pi, brdf_epsilon)
   std::vector<WorldSphere> spheres_;
-  BlockerGrid grid_;
+  std::vector<BlockerGroup> groups_;
+  BlockerGrid grid_;  // over the groups' bounds
+  float cut_sin_;     // sin(80 deg / N)
 };
 
 }  // namespace penumbra::blocker_accumulation

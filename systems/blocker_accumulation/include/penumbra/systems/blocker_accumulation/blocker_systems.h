@@ -2,14 +2,15 @@
 //
 //   blockers.gather  reads SphereSet, Transform, BlockerSettingsResource; writes BlockerField
 //       Every entity's spheres moved to world space (centre by the Transform, radius by its
-//       largest axis scale) into one BlockerAccumulation and its spatial grid. An entity whose
-//       spheres or transform are not finite is left out and named in BlockerField::errors.
+//       largest axis scale) into one BlockerAccumulation and its spatial grid, one group per
+//       entity (its set's bound: the hierarchy's object level, blocker_accumulation.h). An entity
+//       whose spheres or transform are not finite is left out and named in BlockerField::errors.
 //   blockers.shade   reads Receiver, Transform, BlockerField, EnvironmentLight, Terrain; writes
-//       ReceiverLighting, VertexLighting. Per entity with all three: its points and normals to world space,
-//       then visibility and irradiance per point (tbb::parallel_for over blocks of points),
-//       published as new shared arrays (and as VertexLighting, irradiance / pi, when the entity
-//       has one: what the renderer shows). Receivers whose points are not finite are named in
-//       BlockerField::errors and keep their previous lighting. With a Terrain in the world, its
+//       ReceiverLighting, VertexLighting. Per entity with all three: its points and normals to
+//       world space, then visibility and irradiance per point (tbb::parallel_for over blocks of
+//       points), published as new shared arrays (and as VertexLighting, irradiance / pi, when the
+//       entity has one: what the renderer shows). Receivers whose points are not finite are named
+//       in BlockerField::errors and keep their previous lighting. With a Terrain in the world, its
 //       cast shadow ([Giraud] sec. 4.1, log-SH wedges) joins the blockers' sum: evaluated once
 //       per entity, at its Transform's origin (an object small against the terrain's texels
 //       sees one horizon; per point it would cost ~10 us each).
@@ -27,8 +28,10 @@
 
 #include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
+#include "penumbra/components/sphere_set.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
@@ -41,6 +44,21 @@ inline constexpr int kSystemBands = 4;  // = components::ReceiverLighting::kBand
 // Resource: how the system shades.
 struct BlockerSettingsResource {
   BlockerSettings settings;
+  // Frames over which every reached terrain row is re-shaded once (1: all every frame).
+  // Blockers that move a fraction of a texel per frame show no lag worth a whole frame's work.
+  int refresh_period = 4;
+  // Receiver points shaded per frame (0: all): entities are re-shaded whole, round robin, until
+  // the budget is spent (at least one per frame; a new entity at once).
+  std::size_t receiver_budget = 2048;
+};
+
+// A sphere set's bound in its own frame and the fraction of it the spheres cover (cached per
+// set by blockers.gather, for the object level of the hierarchy).
+struct SetBound {
+  std::shared_ptr<const std::vector<components::Sphere>> keep;  // the set it describes
+  glm::vec3 centre{0.0f};
+  float radius = 0;
+  float coverage = 1;
 };
 
 // Resource: this frame's world-space blockers, written by blockers.gather.
@@ -48,6 +66,9 @@ struct BlockerField {
   std::shared_ptr<BlockerAccumulation<kSystemBands>> accumulation;
   std::vector<std::string> errors;  // this frame's rejected inputs, each naming its entity
   std::size_t receivers = 0;        // receiver points shaded this frame
+  std::uint64_t frame = 0;          // frames gathered (the refresh period's clock)
+  std::uint64_t cursor = 0;         // next receiving entity of the round robin
+  std::unordered_map<const void*, SetBound> bounds;  // per SphereSet array
   // The terrain's log-SH wedges for the cast shadow on receivers (built on first use).
   std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> cast_wedges;
 };
@@ -57,7 +78,8 @@ struct BlockerTerrainState {
   std::shared_ptr<const std::vector<glm::vec3>> base;       // the terrain system's lighting
   std::shared_ptr<const std::vector<glm::vec3>> published;  // ours, with the blockers' shadows
   std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> wedges;
-  std::size_t reached = 0;  // texels within some blocker's reach, last frame
+  std::size_t reached = 0;       // texels within some blocker's reach, in the rows last re-shaded
+  std::vector<glm::vec3> ratio;  // per texel: the blockers' shadow (1: none), terrain_receivers.h
 };
 
 // Adds BlockerSettingsResource (with `settings`) and BlockerField when absent.
