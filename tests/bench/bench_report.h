@@ -1,14 +1,12 @@
 // Shared harness for the Penumbra benchmark groups (ecs, sh, terrain, render, ...).
 //
-// Each group is one executable with its own main():
+// Each group is one executable; its main() registers the benchmarks and calls run_group()
+// (bench_registry.h), which calls run_main() here with the group's summarize function:
 //
-//   int main(int argc, char** argv) {
-//     register_benchmarks();  // benchmark::RegisterBenchmark(...) calls
-//     return penumbra::bench::run_main(argc, argv, "ecs", [](const penumbra::bench::Results& r) {
-//       penumbra::bench::Summary s;
-//       s.add(...);  // rows computed from r, i.e. from timings measured in this same run
-//       return s;
-//     });
+//   pb::Summary summarize(const pb::Results& r) {
+//     pb::Summary s;
+//     s.add(...);  // rows computed from r, i.e. from timings measured in this same run
+//     return s;
 //   }
 //
 // run_main() runs Google Benchmark normally (every --benchmark_* flag works, including
@@ -409,33 +407,35 @@ class Summary {
 // ---------------------------------------------------------------------------------------------
 // main()
 
-// Removes "--summary_out=PATH" / "--summary_out PATH" from argv; returns PATH ("" if absent).
-inline std::string take_summary_out(int& argc, char** argv) {
-  std::string path;
+// Removes "--NAME=VALUE" / "--NAME VALUE" from argv; returns VALUE ("" if absent). For the
+// flags a group reads itself (--summary_out here, --records_out and --chart_out in terrain),
+// before Google Benchmark sees argv.
+inline std::string take_flag(int& argc, char** argv, std::string_view name) {
+  std::string value;
+  const std::string flag = "--" + std::string(name);
   int w = 1;
   for (int r = 1; r < argc; ++r) {
     const std::string_view a = argv[r];
-    constexpr std::string_view kFlag = "--summary_out";
-    if (a.substr(0, kFlag.size() + 1) == std::string(kFlag) + "=") {
-      path = std::string(a.substr(kFlag.size() + 1));
+    if (a.substr(0, flag.size() + 1) == flag + "=") {
+      value = std::string(a.substr(flag.size() + 1));
       continue;
     }
-    if (a == kFlag && r + 1 < argc) {
-      path = argv[++r];
+    if (a == flag && r + 1 < argc) {
+      value = argv[++r];
       continue;
     }
     argv[w++] = argv[r];
   }
   argc = w;
   argv[argc] = nullptr;
-  return path;
+  return value;
 }
 
 // Runs the registered benchmarks, then prints (and optionally writes) the group's summary,
 // built by `summarize` from the results of this run. Returns main()'s exit status.
 inline int run_main(int argc, char** argv, std::string_view group,
                     const std::function<Summary(const Results&)>& summarize) {
-  const std::string summary_out = take_summary_out(argc, argv);
+  const std::string summary_out = take_flag(argc, argv, "summary_out");
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
 

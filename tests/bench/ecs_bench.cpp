@@ -42,7 +42,7 @@
 #include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
-#include "bench_report.h"
+#include "bench_registry.h"
 #include "penumbra/components/motion.h"
 #include "penumbra/ecs/query.h"
 #include "penumbra/ecs/world.h"
@@ -491,24 +491,22 @@ constexpr const char* kCompute1 = "ecs/parallel/logistic_each/threads:1";
 constexpr const char* kCompute2 = "ecs/parallel/logistic_each/threads:2";
 
 void register_benchmarks() {
-  // Every timing is wall clock (UseRealTime): the executors run work on other threads.
-  auto common = [](benchmark::internal::Benchmark* b, double min_time) {
-    b->UseRealTime()->MinTime(min_time)->Unit(benchmark::kMicrosecond);
-  };
-  common(benchmark::RegisterBenchmark(kPlain, BM_IteratePlainVector), kMinTime);
-  common(benchmark::RegisterBenchmark(kStream, BM_IterateStreamFloor), kMinTime);
-  common(benchmark::RegisterBenchmark(kChunks, BM_IterateQueryChunks), kMinTime);
-  common(benchmark::RegisterBenchmark(kEach, BM_IterateQueryEach), kMinTime);
-  common(benchmark::RegisterBenchmark(kSchedEach, BM_IterateScheduleEach), kMinTime);
-  common(benchmark::RegisterBenchmark(kSched1, BM_ScheduleEmpty, 1), kMinTime);
-  common(benchmark::RegisterBenchmark(kSched2, BM_ScheduleEmpty, 2), kMinTime);
-  common(benchmark::RegisterBenchmark(kRaw2, BM_ScheduleRawDagFloor), kMinTime);
-  benchmark::RegisterBenchmark(kSchedIdle, BM_ScheduleEmptyIdle)
-      ->UseManualTime()
-      ->Iterations(250)
-      ->Unit(benchmark::kMicrosecond);
-  common(benchmark::RegisterBenchmark(kCompute1, BM_ParallelCompute, 1), 1.0);
-  common(benchmark::RegisterBenchmark(kCompute2, BM_ParallelCompute, 2), 1.0);
+  // Every timing is wall clock: the executors run work on other threads.
+  const pb::Timing wall{.unit = benchmark::kMicrosecond, .min_time = kMinTime};
+  const pb::Timing wall_1s{.unit = benchmark::kMicrosecond, .min_time = 1.0};
+  pb::add(kPlain, wall, BM_IteratePlainVector);
+  pb::add(kStream, wall, BM_IterateStreamFloor);
+  pb::add(kChunks, wall, BM_IterateQueryChunks);
+  pb::add(kEach, wall, BM_IterateQueryEach);
+  pb::add(kSchedEach, wall, BM_IterateScheduleEach);
+  pb::add(kSched1, wall, BM_ScheduleEmpty, 1);
+  pb::add(kSched2, wall, BM_ScheduleEmpty, 2);
+  pb::add(kRaw2, wall, BM_ScheduleRawDagFloor);
+  pb::add(kSchedIdle,
+          {.clock = pb::Timing::Clock::kManual, .unit = benchmark::kMicrosecond, .iterations = 250},
+          BM_ScheduleEmptyIdle);
+  pb::add(kCompute1, wall_1s, BM_ParallelCompute, 1);
+  pb::add(kCompute2, wall_1s, BM_ParallelCompute, 2);
 }
 
 pb::Summary summarize(const pb::Results& r) {
@@ -633,10 +631,9 @@ pb::Summary summarize(const pb::Results& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  register_benchmarks();
-  const int status = pb::run_main(argc, argv, "ecs", summarize);
-  g_compute.reset();
-  g_schedule.reset();
-  g_motion.reset();
-  return status;
+  return pb::run_group(argc, argv, "ecs", register_benchmarks, summarize, [] {
+    g_compute.reset();
+    g_schedule.reset();
+    g_motion.reset();
+  });
 }

@@ -31,7 +31,7 @@
 #include <numbers>
 #include <vector>
 
-#include "bench_report.h"
+#include "bench_registry.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/sampling.h"
 
@@ -242,15 +242,14 @@ constexpr const char* kLights = "reference/light_irradiance_4096/threads:2";
 constexpr const char* kVisibility = "reference/visibility_sh4_4096/threads:2";
 
 void register_benchmarks() {
-  auto common = [](benchmark::internal::Benchmark* b) {
-    b->UseRealTime()->Unit(benchmark::kMillisecond);
-  };
-  common(benchmark::RegisterBenchmark(kFull, BM_EnvironmentIrradiance, true, 2)->Iterations(1));
-  common(benchmark::RegisterBenchmark(kSubset1, BM_EnvironmentIrradiance, false, 1)->Iterations(1));
-  common(benchmark::RegisterBenchmark(kFloor1, BM_OcclusionFloor, 1)->MinTime(1.0));
-  common(benchmark::RegisterBenchmark(kFloor2, BM_OcclusionFloor, 2)->MinTime(1.0));
-  common(benchmark::RegisterBenchmark(kLights, BM_LightIrradiance)->Iterations(1));
-  common(benchmark::RegisterBenchmark(kVisibility, BM_VisibilitySh)->Iterations(1));
+  const pb::Timing once{.unit = benchmark::kMillisecond, .iterations = 1};
+  const pb::Timing one_second{.unit = benchmark::kMillisecond, .min_time = 1.0};
+  pb::add(kFull, once, BM_EnvironmentIrradiance, true, 2);
+  pb::add(kSubset1, once, BM_EnvironmentIrradiance, false, 1);
+  pb::add(kFloor1, one_second, BM_OcclusionFloor, 1);
+  pb::add(kFloor2, one_second, BM_OcclusionFloor, 2);
+  pb::add(kLights, once, BM_LightIrradiance);
+  pb::add(kVisibility, once, BM_VisibilitySh);
 }
 
 pb::Summary summarize(const pb::Results& r) {
@@ -332,6 +331,5 @@ pb::Summary summarize(const pb::Results& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  register_benchmarks();
-  return pb::run_main(argc, argv, "reference", summarize);
+  return pb::run_group(argc, argv, "reference", register_benchmarks, summarize);
 }

@@ -31,7 +31,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "bench_report.h"
+#include "bench_registry.h"
 #include "penumbra/render/offscreen_target.h"
 #include "penumbra/render/renderer.h"
 #include "penumbra/render/terrain_bintree.h"
@@ -292,18 +292,18 @@ pb::Summary summarize(const pb::Results& r) {
   return s;
 }
 
+void register_benchmarks() {
+  // Frames: wall clock (the device works on other threads); the bintree: CPU time, one thread.
+  for (const auto& [variant, name] : kNames)
+    pb::add(name, {.unit = benchmark::kMillisecond, .min_time = kMinTime}, BM_Render, variant);
+  const pb::Timing cpu{.clock = pb::Timing::Clock::kCpu, .unit = benchmark::kMillisecond};
+  pb::add("bintree_build", cpu, BM_BintreeBuild);
+  pb::add("bintree_triangulate", cpu, BM_BintreeTriangulate);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  for (const auto& [variant, name] : kNames)
-    benchmark::RegisterBenchmark(name, BM_Render, variant)
-        ->UseRealTime()
-        ->MinTime(kMinTime)
-        ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bintree_build", BM_BintreeBuild)->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark("bintree_triangulate", BM_BintreeTriangulate)
-      ->Unit(benchmark::kMillisecond);
-  const int status = pb::run_main(argc, argv, "render", summarize);
-  g_bench.reset();
-  return status;
+  return pb::run_group(argc, argv, "render", register_benchmarks, summarize,
+                       [] { g_bench.reset(); });
 }

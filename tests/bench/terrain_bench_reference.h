@@ -2,7 +2,7 @@
 // library penumbra_terrain_reference): one scene, one HDR map, reference irradiance at
 // subsampled receivers computed once per run and cached, and the error summary of a method's
 // irradiance grid against it. Everything the benchmark group "terrain" needs from the reference
-// goes through here, so terrain_bench.cpp does not depend on that library's details.
+// goes through here, so the terrain benchmark files do not depend on that library's details.
 //
 // Scene: "mountains" (fBm, 256 m across, about 1 m cells at 256 x 256; [Meier13] ch. 6), heights x 1,
 // under ../shared/data/hdri/sunset.exr (the demo's map), unrotated. Receivers: every 8th texel
