@@ -21,8 +21,7 @@
 // Errors: set_blockers throws std::invalid_argument naming the sphere (index) with a non-finite
 // centre or a non-finite or negative radius; shade() names a receiver with a non-finite point
 // or normal. A zero-radius sphere blocks nothing.
-// Cost: about 60 ns per receiver-sphere pair and 0.5 us per exponential and product (4 bands,
-// one core; docs/blocker_accumulation.md).
+// Measured cost and accuracy: docs/blocker_accumulation.md.
 // Threading: set_blockers on one thread; the const members from any number of threads.
 #pragma once
 
