@@ -1,7 +1,8 @@
 // penumbra_info FILE: what an asset file holds (./penumbra info FILE). Environment map (.exr
 // with colour channels): size, radiance range and mean, 4-band SH per channel. glTF (.gltf,
 // .glb): meshes, vertices, triangles, nodes. Height map (.pgm, single-channel .exr): size, cell
-// size, height range. On a load error prints the loader's message and exits 1.
+// size, height range. Sphere set (.psph): count, roots, radius range, bounds of the set, fit
+// method, Er, coverage, source model. On a load error prints the loader's message and exits 1.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -9,9 +10,13 @@
 #include <filesystem>
 #include <string>
 
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+
 #include "penumbra/assets/exr.h"
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/heightmap.h"
+#include "penumbra/assets/sphere_file.h"
 #include "penumbra/sh/projection.h"
 
 namespace {
@@ -76,11 +81,38 @@ void print_heights(const data::HeightField& f, double ms) {
   std::printf("  loaded in   %.2f ms\n", ms);
 }
 
+void print_spheres(const assets::SphereSetFile& f, const std::string& path, double ms) {
+  std::printf("sphere set  %s\n", path.c_str());
+  std::printf("  source      %s\n", f.source_model.empty() ? "(none)" : f.source_model.c_str());
+  std::size_t roots = 0;
+  float rmin = 0, rmax = 0;
+  glm::vec3 lo(0), hi(0);
+  for (std::size_t i = 0; i < f.spheres.size(); ++i) {
+    const data::Sphere& s = f.spheres[i];
+    roots += s.parent < 0;
+    rmin = i == 0 ? s.radius : std::min(rmin, s.radius);
+    rmax = i == 0 ? s.radius : std::max(rmax, s.radius);
+    lo = i == 0 ? s.centre - s.radius : glm::min(lo, s.centre - s.radius);
+    hi = i == 0 ? s.centre + s.radius : glm::max(hi, s.centre + s.radius);
+  }
+  std::printf("  spheres     %zu (%zu roots)\n", f.spheres.size(), roots);
+  if (!f.spheres.empty()) {
+    std::printf("  radius      min %.6g  max %.6g\n", rmin, rmax);
+    std::printf("  bounds      (%.4g, %.4g, %.4g) .. (%.4g, %.4g, %.4g)\n", lo.x, lo.y, lo.z, hi.x,
+                hi.y, hi.z);
+  }
+  std::printf("  method      %s\n", assets::sphere_fit_method_name(f.method));
+  std::printf("  Er          %.4f (outside volume ratio: vol(union)/vol(mesh) - 1)\n",
+              f.outside_volume_ratio);
+  std::printf("  coverage    %.6f (of the mesh surface)\n", f.coverage);
+  std::printf("  loaded in   %.2f ms\n", ms);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::fprintf(stderr, "usage: penumbra_info FILE (.exr, .gltf, .glb, .pgm)\n");
+    std::fprintf(stderr, "usage: penumbra_info FILE (.exr, .gltf, .glb, .pgm, .psph)\n");
     return 2;
   }
   const std::filesystem::path path = argv[1];
@@ -98,8 +130,11 @@ int main(int argc, char** argv) {
     } else if (ext == ".exr") {
       const data::EnvironmentMap m = assets::load_environment_map(path);
       print_environment(m, ms_since(t0));
+    } else if (ext == ".psph") {
+      const assets::SphereSetFile f = assets::load_sphere_file(path);
+      print_spheres(f, path.string(), ms_since(t0));
     } else {
-      std::fprintf(stderr, "%s: unknown file type (expected .exr, .gltf, .glb or .pgm)\n",
+      std::fprintf(stderr, "%s: unknown file type (expected .exr, .gltf, .glb, .pgm or .psph)\n",
                    path.c_str());
       return 1;
     }
