@@ -1,0 +1,360 @@
+// Benchmark group "blockers", the frame (blocker_bench.cpp has the kernels, the floors' counts
+// and main): 99,856 upward receivers (316 x 316 over 200 m x 200 m) shaded by
+// BlockerAccumulation<4> (kProduct, uniform sky) on 2 threads, tbb::parallel_for over blocks of
+// 1,024 receivers, wall clock; each frame also rebuilds the grid (set_blockers), as the
+// system's gather does. Scenes:
+//  - scattered:N  N = 50 or 400 spheres, radius 1-3 m, heights 2-10 m, each its own group;
+//  - objects:400  25 objects of 16 spheres (radius 0.5-1.5 m within 3 m of the object's
+//                 centre, heights 2-10 m), one BlockerGroup each (bound + disc coverage,
+//                 computed as the system's gather does).
+// Methods: all_pairs (min_sin = 0: the grid lists every sphere everywhere; hierarchy off: the
+// same-run baseline), grid (default min_sin, hierarchy off), hierarchy (grid + kObjects).
+// Counters (computed outside the timed loop): view_blocker calls and log-SH additions per
+// receiver, counted by replaying accumulate()'s loop over the grid's candidates at every
+// receiver; the counted operations of a frame (for the floor); and, at every 50th receiver
+// (1,998), the mean number of HYB squarings and the irradiance's relative RMS and max
+// difference against all_pairs (same settings otherwise): sqrt(sum (E - E_all)^2 / sum E_all^2),
+// max |E - E_all| / RMS(E_all).
+#include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "bench_registry.h"
+#include "penumbra/sh/exp_log.h"
+#include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
+
+namespace penumbra::bench::blockers {
+
+namespace ba = penumbra::blocker_accumulation;
+
+// Defined in blocker_bench.cpp.
+std::vector<glm::vec3> receiver_grid();
+std::vector<ba::WorldSphere> scattered_spheres(int count);
+double view_flops();
+double add_log_flops(int bands);
+double shade_flops(int bands, double squares);
+double depth_eval_flops(int bands);
+Row& add_row(Summary& s, std::string name, std::string unit, std::optional<double> value,
+             std::optional<double> baseline, Goal goal, std::optional<double> floor,
+             std::string note);
+
+}  // namespace penumbra::bench::blockers
+
+namespace {
+namespace pb = penumbra::bench;
+namespace bb = penumbra::bench::blockers;
+namespace ba = penumbra::blocker_accumulation;
+namespace sh = penumbra::sh;
+
+constexpr int N = 4;  // kSystemBands
+constexpr int kThreads = 2;
+constexpr std::size_t kBlock = 1024;
+constexpr std::size_t kStride = 50;  // accuracy and squarings subsample
+constexpr double kGoalMs = 30;       // issue 11: 100,000 receivers x 400 blockers, 2 cores
+
+struct Scene {
+  std::vector<ba::WorldSphere> spheres;
+  std::vector<ba::BlockerGroup> groups;  // empty: every sphere its own group
+};
+
+// The bound and disc coverage of one object's spheres, as blocker_systems.cpp's bound_of: the
+// fraction of the bound's disc covered, averaged over the three axis projections, 32 x 32.
+ba::BlockerGroup group_of(std::span<const ba::WorldSphere> s, std::uint32_t first) {
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const auto& x : s) {
+    lo = glm::min(lo, x.centre - x.radius);
+    hi = glm::max(hi, x.centre + x.radius);
+  }
+  ba::BlockerGroup g;
+  g.first = first;
+  g.count = static_cast<std::uint32_t>(s.size());
+  g.bound.centre = 0.5f * (lo + hi);
+  for (const auto& x : s)
+    g.bound.radius = std::max(g.bound.radius, glm::length(x.centre - g.bound.centre) + x.radius);
+  constexpr int kGrid = 32;
+  int inside = 0, covered = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i) {
+        const float x = g.bound.radius * (2 * (i + 0.5f) / kGrid - 1);
+        const float y = g.bound.radius * (2 * (j + 0.5f) / kGrid - 1);
+        if (x * x + y * y > g.bound.radius * g.bound.radius) continue;
+        ++inside;
+        for (const auto& q : s) {
+          const float dx = g.bound.centre[u] + x - q.centre[u];
+          const float dy = g.bound.centre[v] + y - q.centre[v];
+          if (dx * dx + dy * dy <= q.radius * q.radius) {
+            ++covered;
+            break;
+          }
+        }
+      }
+  }
+  g.coverage = std::max(0.01f, static_cast<float>(covered) / static_cast<float>(inside));
+  return g;
+}
+
+Scene objects_scene() {
+  std::mt19937 rng(77);
+  std::uniform_real_distribution<float> xy(-100, 100), z(4, 8), r(0.5f, 1.5f), u(-1, 1);
+  Scene scene;
+  for (int o = 0; o < 25; ++o) {
+    const glm::vec3 centre(xy(rng), xy(rng), z(rng));
+    const auto first = static_cast<std::uint32_t>(scene.spheres.size());
+    for (int k = 0; k < 16; ++k) {
+      glm::vec3 d;
+      do d = glm::vec3(u(rng), u(rng), u(rng));
+      while (glm::dot(d, d) > 1);
+      scene.spheres.push_back({centre + 3.0f * d, r(rng)});
+    }
+    scene.groups.push_back(group_of(std::span(scene.spheres).subspan(first, 16), first));
+  }
+  return scene;
+}
+
+enum class Method { kAllPairs, kGrid, kHierarchy };
+
+ba::BlockerSettings settings_for(Method m) {
+  ba::BlockerSettings s;
+  s.hierarchy =
+      m == Method::kHierarchy ? ba::BlockerHierarchy::kObjects : ba::BlockerHierarchy::kOff;
+  if (m == Method::kAllPairs) s.blocker.min_sin = 0;
+  return s;
+}
+
+struct Fixture {
+  std::vector<glm::vec3> points, normals;
+  sh::CoeffsRgb<N> sky{};  // uniform radiance 1
+  std::map<std::string, Scene> scenes;
+};
+
+const Fixture& fixture() {
+  static const Fixture f = [] {
+    Fixture x;
+    x.points = bb::receiver_grid();
+    x.normals.assign(x.points.size(), glm::vec3(0, 0, 1));
+    for (auto& c : x.sky) c[0] = std::sqrt(4 * std::numbers::pi_v<float>);
+    x.scenes["scattered:50"] = {bb::scattered_spheres(50), {}};
+    x.scenes["scattered:400"] = {bb::scattered_spheres(400), {}};
+    x.scenes["objects:400"] = objects_scene();
+    return x;
+  }();
+  return f;
+}
+
+struct Analysis {
+  double views = 0, added = 0;  // per receiver
+  double flops = 0;             // per frame
+  double squares = 0;           // mean HYB squarings
+  double rel_rms = 0, max_rel = 0;
+};
+
+// Replays accumulate() (blocker_accumulation.cpp) at every receiver: which view_blocker calls
+// and log-SH additions it makes, and the depth limit's evaluations.
+Analysis analyse(const Scene& scene, Method m) {
+  const Fixture& f = fixture();
+  const ba::BlockerSettings settings = settings_for(m);
+  ba::BlockerAccumulation<N> acc(settings), all(settings_for(Method::kAllPairs));
+  acc.set_blockers(scene.spheres, scene.groups);
+  all.set_blockers(scene.spheres, scene.groups);
+  const float cut_sin = std::sin(80.0f / N * std::numbers::pi_v<float> / 180.0f);
+  const bool cut = settings.hierarchy == ba::BlockerHierarchy::kObjects;
+  double views = 0, added = 0, depth_evals = 0;
+  for (std::size_t i = 0; i < f.points.size(); ++i) {
+    const glm::vec3 p = f.points[i], n = f.normals[i];
+    int count = 0;
+    float weight = 0;
+    const auto visit = [&](const ba::WorldSphere& s, float scale) {
+      ++views;
+      const float w = ba::view_blocker(p, n, s.centre, s.radius, settings.blocker).weight * scale;
+      if (!(w > 0)) return;
+      ++count;
+      weight += w;
+    };
+    const ba::BlockerGrid::Candidates c = acc.grid().candidates(p);
+    for (const auto list : {c.near, c.everywhere})
+      for (const std::uint32_t gi : list) {
+        const ba::BlockerGroup g = scene.groups.empty()
+                                       ? ba::BlockerGroup{scene.spheres[gi], gi, 1, 1.0f}
+                                       : scene.groups[gi];
+        if (g.count == 1) {
+          visit(scene.spheres[g.first], 1.0f);
+          continue;
+        }
+        const float d = glm::length(g.bound.centre - p);
+        const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
+        const float a = cut ? std::clamp((s - cut_sin) / (0.25f * cut_sin), 0.0f, 1.0f) : 1.0f;
+        if (a < 1) visit(g.bound, g.coverage * (1 - a));
+        if (a > 0)
+          for (std::uint32_t k = g.first; k < g.first + g.count; ++k) visit(scene.spheres[k], a);
+      }
+    added += count;
+    if (weight > settings.blocker.max_depth) depth_evals += std::min(count, 64);
+  }
+  Analysis a;
+  const double receivers = static_cast<double>(f.points.size());
+  a.views = views / receivers;
+  a.added = added / receivers;
+  double k_sum = 0, diff2 = 0, ref2 = 0, max_diff = 0;
+  int samples = 0;
+  for (std::size_t i = 0; i < f.points.size(); i += kStride, ++samples) {
+    const sh::Coeffs<N> lv = acc.log_visibility(f.points[i], f.normals[i]);
+    double norm2 = 0;
+    for (int c = 1; c < N * N; ++c) norm2 += double(lv[c]) * lv[c];
+    if (std::sqrt(norm2) > sh::kHybOlNorm)
+      k_sum += std::ceil(std::log2(std::sqrt(norm2) / sh::kHybOlNorm));
+    const double e = acc.irradiance(f.sky, f.points[i], f.normals[i]).y;
+    const double ref = all.irradiance(f.sky, f.points[i], f.normals[i]).y;
+    diff2 += (e - ref) * (e - ref);
+    ref2 += ref * ref;
+    max_diff = std::max(max_diff, std::abs(e - ref));
+  }
+  a.squares = k_sum / samples;
+  a.rel_rms = ref2 > 0 ? std::sqrt(diff2 / ref2) : 0.0;
+  a.max_rel = ref2 > 0 ? max_diff / std::sqrt(ref2 / samples) : 0.0;
+  a.flops = views * bb::view_flops() + added * bb::add_log_flops(N) +
+            depth_evals * bb::depth_eval_flops(N) + receivers * bb::shade_flops(N, a.squares);
+  return a;
+}
+
+void BM_Frame(benchmark::State& state, std::string scene_name, Method m) {
+  const Fixture& f = fixture();
+  const Scene& scene = f.scenes.at(scene_name);
+  ba::BlockerAccumulation<N> acc(settings_for(m));
+  tbb::task_arena arena(kThreads);
+  std::vector<glm::vec3> out(f.points.size());
+  const std::span<const glm::vec3> points(f.points), normals(f.normals);
+  const std::span<glm::vec3> irradiance(out);
+  for (auto _ : state) {
+    acc.set_blockers(scene.spheres, scene.groups);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kBlock),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          acc.shade(f.sky, points.subspan(r.begin(), r.size()),
+                                    normals.subspan(r.begin(), r.size()), {},
+                                    irradiance.subspan(r.begin(), r.size()));
+                        });
+    });
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  static std::map<std::pair<std::string, Method>, Analysis> cache;
+  auto it = cache.find({scene_name, m});
+  if (it == cache.end()) it = cache.emplace(std::pair(scene_name, m), analyse(scene, m)).first;
+  const Analysis& a = it->second;
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.points.size()));
+  state.counters["receivers"] = static_cast<double>(f.points.size());
+  state.counters["views_per_receiver"] = a.views;
+  state.counters["added_per_receiver"] = a.added;
+  state.counters["flops_per_frame"] = a.flops;
+  state.counters["squares_mean"] = a.squares;
+  state.counters["rel_rms_vs_all_pairs"] = a.rel_rms;
+  state.counters["max_rel_vs_all_pairs"] = a.max_rel;
+}
+
+const char* method_name(Method m) {
+  switch (m) {
+    case Method::kAllPairs:
+      return "all_pairs";
+    case Method::kGrid:
+      return "grid";
+    case Method::kHierarchy:
+      return "hierarchy";
+  }
+  return "";
+}
+
+std::string key(const std::string& scene, Method m) {
+  return "BM_Frame/" + scene + "/" + method_name(m);
+}
+
+struct FrameCase {
+  const char* scene;
+  Method method;
+};
+constexpr FrameCase kCases[] = {
+    {"scattered:50", Method::kAllPairs},  {"scattered:50", Method::kGrid},
+    {"scattered:400", Method::kAllPairs}, {"scattered:400", Method::kGrid},
+    {"objects:400", Method::kAllPairs},   {"objects:400", Method::kGrid},
+    {"objects:400", Method::kHierarchy},
+};
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+}  // namespace
+
+namespace penumbra::bench::blockers {
+
+void register_frame_benchmarks() {
+  const pb::Timing frame{.unit = benchmark::kMillisecond, .iterations = 2, .repetitions = 5};
+  for (const FrameCase& c : kCases)
+    pb::add(key(c.scene, c.method), frame, BM_Frame, std::string(c.scene), c.method);
+}
+
+void summarize_frames(const Results& r, Summary& s, double ns_per_fma) {
+  const auto ms = [&](const std::string& k) { return pb::scale(r.real_ns(k), 1e-6); };
+  const auto floor_ms = [&](const std::string& k) -> std::optional<double> {
+    const auto flops = r.counter(k, "flops_per_frame");
+    if (!flops || !(ns_per_fma > 0)) return std::nullopt;
+    return *flops * ns_per_fma / kThreads * 1e-6;
+  };
+  const auto pairs_note = [&](const std::string& k) {
+    return fmt("%.1f", r.counter(k, "views_per_receiver").value_or(NAN)) + " views, " +
+           fmt("%.1f", r.counter(k, "added_per_receiver").value_or(NAN)) +
+           " log-SH adds per receiver";
+  };
+  const auto accuracy_note = [&](const std::string& k) {
+    return "; irradiance vs all pairs: rel RMS " +
+           fmt("%.3g%%", 100 * r.counter(k, "rel_rms_vs_all_pairs").value_or(NAN)) + ", max " +
+           fmt("%.3g%%", 100 * r.counter(k, "max_rel_vs_all_pairs").value_or(NAN));
+  };
+  for (const FrameCase& c : kCases) {
+    const std::string k = key(c.scene, c.method);
+    const std::string name = std::string("frame ") + c.scene + " " + method_name(c.method);
+    if (c.method == Method::kAllPairs) {
+      add_row(s, name, "ms", ms(k), std::nullopt, pb::Goal::none(), floor_ms(k),
+              "same-run baseline (min_sin 0); " + pairs_note(k));
+    } else if (c.method == Method::kGrid) {
+      add_row(s, name, "ms", ms(k), ms(key(c.scene, Method::kAllPairs)), pb::Goal::none(),
+              floor_ms(k), "baseline: all pairs; " + pairs_note(k) + accuracy_note(k));
+    } else {
+      const auto vs_all = pb::quotient(ms(key(c.scene, Method::kAllPairs)), ms(k));
+      add_row(s, name, "ms", ms(k), ms(key(c.scene, Method::kGrid)), pb::Goal::none(), floor_ms(k),
+              "baseline: grid, hierarchy off (kOff); " + fmt("%.1fx", vs_all.value_or(NAN)) +
+                  " all pairs; " + pairs_note(k) + accuracy_note(k));
+    }
+  }
+  for (const FrameCase& g :
+       {FrameCase{"scattered:400", Method::kGrid}, FrameCase{"objects:400", Method::kHierarchy}}) {
+    const std::string k = key(g.scene, g.method);
+    const auto value = ms(k);
+    const auto over = pb::quotient(value, kGoalMs);
+    add_row(s, std::string("goal: 100k receivers x ") + g.scene + " " + method_name(g.method), "ms",
+            value, std::nullopt, pb::Goal::value_at_most(kGoalMs), floor_ms(k),
+            "issue 11: <= 30 ms on 2 cores, exponentials included; measured / goal = " +
+                fmt("%.2fx", over.value_or(NAN)));
+  }
+}
+
+}  // namespace penumbra::bench::blockers
