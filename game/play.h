@@ -23,6 +23,7 @@ struct Options {
   std::size_t points = 50'000;    // particles drawn at most (every k-th); 0: all
   float terrain_lod_pixels = -1;  // < 0: the scene's own (render::ViewSettings)
   float light_budget = -1;        // < 0: LightRefreshConfig's (terrain demo)
+  int boulders = -1;              // < 0: BoulderConfig's count (terrain demo)
   std::string bench;              // headless: write the run's record (play_record.h) here
   std::string bench_splits;       // "T:L,...": also run these splits (threads, LP_NUM_THREADS)
   int empty_frames = 120;         // --bench: frames of an empty packet, the baseline (half

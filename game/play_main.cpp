@@ -23,6 +23,8 @@
 // at most half the rest), which the frame statistics leave out.
 // Threads: --threads T for the job graph (0, the default: one per core); LP_NUM_THREADS, when
 // unset, is set by play::default_lavapipe_threads() before the renderer starts (play.h).
+#include <malloc.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -41,7 +43,8 @@ using penumbra::play::Options;
                "[--frames N] [--threads T] "
                "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
                "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
-               "[--points N] [--terrain-lod PX] [--light-budget F] [--bench FILE [--bench-splits "
+               "[--points N] [--boulders N] [--terrain-lod PX] [--light-budget F] [--bench FILE "
+               "[--bench-splits "
                "T:L,...]] [--gpu-timing-frames N]\n",
                error);
   std::exit(2);
@@ -91,6 +94,8 @@ Options parse(int argc, char** argv) {
       o.validation = true;
     else if (a == "--points")
       o.points = static_cast<std::size_t>(number(0));
+    else if (a == "--boulders")
+      o.boulders = static_cast<int>(number(0));
     else if (a == "--terrain-lod") {
       const std::string v = value();
       char* end = nullptr;
@@ -126,6 +131,11 @@ Options parse(int argc, char** argv) {
 int main(int argc, char** argv) {
   using namespace penumbra;
   Options opt = parse(argc, argv);
+  // Per-frame arrays (lighting, ratios, copies for the packet) are 0.1-1 MB. Left to glibc's
+  // adaptive threshold, whole runs sometimes served them by mmap: fresh pages every frame, 20%
+  // of the time in page faults and 3x slower frames (docs/play.md). Keep them on the heap.
+  mallopt(M_MMAP_THRESHOLD, 64 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   // llvmpipe reads LP_NUM_THREADS when the device is created: the CPU split (docs/play.md).
   if (!std::getenv("LP_NUM_THREADS"))
     setenv("LP_NUM_THREADS", std::to_string(play::default_lavapipe_threads()).c_str(), 0);

@@ -63,6 +63,8 @@ struct Sim {
       game::TerrainDemoConfig demo;
       demo.data_dir = o.data;
       if (o.light_budget > 0) demo.light_refresh.budget = o.light_budget;
+      if (o.boulders >= 0) demo.boulders.count = o.boulders;
+      demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
       game::populate_terrain_demo(world, demo);
       world.resource<game::HorizonProbe>().aspect =
           static_cast<float>(o.width) / static_cast<float>(o.height);

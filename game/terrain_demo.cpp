@@ -21,6 +21,7 @@
 #include "penumbra/components/terrain.h"
 #include "penumbra/render/packet.h"
 #include "penumbra/sh/projection.h"
+#include "penumbra/systems/blocker_accumulation/blocker_systems.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
 #include "penumbra/systems/terrain_shadow/terrain_horizons.h"
@@ -195,6 +196,8 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   // for terrain views; the shadow system and the renderer both apply it).
   world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}, 2.0f},
                     TerrainLighting{}, DebugLines{});
+  blocker_accumulation::emplace_blocker_resources(world);
+  populate_boulders(world, dir.string(), config.boulders);
   world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
                     DebugSphere{});
 }
@@ -212,7 +215,9 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
   s.add_task("demo_camera", [](jobs::SystemContext& ctx) { orbit(ctx.world()); })
       .reads<FrameTime, Terrain>()
       .writes<Camera>();
+  add_boulder_systems(s);
   terrain_shadow::add_terrain_shadow_systems(s);
+  blocker_accumulation::add_blocker_systems(s);
   s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
       .reads<Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe>()
       .writes<DebugSphere, DebugLines>();

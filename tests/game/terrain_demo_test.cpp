@@ -6,17 +6,23 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
 
-#include "penumbra/data/height_field.h"
 #include "penumbra/assets/load_error.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/receiver_lighting.h"
+#include "penumbra/components/sphere_set.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
+#include "penumbra/game/boulders.h"
 #include "penumbra/jobs/executor.h"
 #include "penumbra/render/packet.h"
+#include "penumbra/systems/blocker_accumulation/blocker_systems.h"
 
 namespace penumbra::game {
 namespace {
@@ -72,6 +78,62 @@ TEST(TerrainDemo, SkyLightAndEditsDriveTheShadowSystem) {
     EXPECT_EQ(t.height_scale, 2.0f);
     EXPECT_FLOAT_EQ(packet.terrain.heights->at(5, 7), t.height_scale * t.heights->at(5, 7));
   });
+}
+
+// The rolling boulders: fitted sphere sets (cached as sphere files), rolling on the ground,
+// shaded, and shadowing the terrain under them.
+TEST(TerrainDemo, BouldersRollShadeAndShadowTheTerrain) {
+  ecs::World world;
+  TerrainDemoConfig config;
+  config.terrain_size = 129;
+  config.edit_interval = 0;
+  config.boulders.count = 3;
+  config.boulders.spheres = 8;
+  config.boulders.radius = 400;
+  const std::filesystem::path cache =
+      std::filesystem::temp_directory_path() / "penumbra_boulders_test";
+  std::filesystem::remove_all(cache);
+  config.boulders.cache_dir = cache.string();
+  populate_terrain_demo(world, config);
+  EXPECT_TRUE(std::filesystem::exists(cache / "bunny_8.psph"));
+  EXPECT_TRUE(std::filesystem::exists(cache / "suzi_8.psph"));
+  world.resource<blocker_accumulation::BlockerSettingsResource>().refresh_period = 1;
+  world.resource<blocker_accumulation::BlockerSettingsResource>().receiver_budget = 0;
+  jobs::Schedule schedule;
+  add_terrain_demo_systems(schedule, config);
+  jobs::Executor executor(2);
+  std::vector<glm::vec3> first;
+  int boulders = 0;
+  for (int f = 0; f < 4; ++f) executor.run(schedule, world);
+  world.query<const Boulder, const components::Transform, const components::ReceiverLighting>()
+      .each([&](const Boulder& b, const components::Transform& t,
+                const components::ReceiverLighting& l) {
+        ++boulders;
+        ASSERT_NE(l.irradiance, nullptr);
+        for (const glm::vec3& e : *l.irradiance) ASSERT_TRUE(std::isfinite(e.x));
+        first.push_back(glm::vec3(t.world[3]));
+        EXPECT_GT(b.radius, 0.0f);
+      });
+  EXPECT_EQ(boulders, 3);
+  EXPECT_TRUE(world.resource<blocker_accumulation::BlockerField>().errors.empty());
+  // Some terrain texels are darker than the terrain system's own lighting: the boulders' shadow.
+  int shadowed = 0;
+  world.query<const blocker_accumulation::BlockerTerrainState>().each(
+      [&](const blocker_accumulation::BlockerTerrainState& s) {
+        for (const glm::vec3& r : s.ratio) shadowed += r.x < 0.95f;
+      });
+  EXPECT_GT(shadowed, 0);
+  for (int f = 0; f < 10; ++f) executor.run(schedule, world);
+  int moved = 0, k = 0;
+  world.query<const Boulder, const components::Transform>().each(
+      [&](const Boulder&, const components::Transform& t) {
+        moved += glm::length(glm::vec3(t.world[3]) - first[static_cast<std::size_t>(k++)]) > 1.0f;
+      });
+  EXPECT_EQ(moved, 3);
+  // A second start loads the cached sets instead of fitting again.
+  ecs::World again;
+  populate_terrain_demo(again, config);
+  std::filesystem::remove_all(cache);
 }
 
 TEST(TerrainDemo, MissingDataNamesTheFile) {

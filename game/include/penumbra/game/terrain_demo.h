@@ -10,7 +10,9 @@
 //   demo_animate      reads FrameTime, writes EnvironmentLight (rotation), SphericalLight
 //                     (path), Terrain (brush edits), RenderSettings (sky rotation)
 //   demo_camera       reads FrameTime, Terrain, writes Camera (slow orbit)
+//   demo_boulders     reads FrameTime, Terrain, Boulder, writes Transform (boulders.h)
 //   terrain_shadow.*  (systems/terrain_shadow)
+//   blockers.*        (systems/blocker_accumulation: the boulders' shadows, after the terrain's)
 //   demo_debug_view   reads Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe,
 //                     writes DebugSphere (the light's extent) and the terrain's DebugLines (the
 //                     horizon wedges under the probe)
@@ -22,6 +24,7 @@
 #include <glm/vec2.hpp>
 
 #include "penumbra/ecs/world.h"
+#include "penumbra/game/boulders.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/systems/terrain_shadow/light_refresh.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
@@ -37,6 +40,7 @@ struct TerrainDemoConfig {
   float edit_interval = 3.0f;        // seconds between brush edits; <= 0: none
   terrain_shadow::TerrainShadowConfig shadow{};
   terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
+  BoulderConfig boulders{};  // rolling blockers (boulders.h)
 };
 
 // Resource: which texel's horizon the debug view draws, as a point on the screen in NDC

@@ -38,7 +38,7 @@ enum class RatioAttenuation { kOff, kOn };
 struct SphereBlockerSettings {
   float epsilon = 0.2f;  // visibility inside a blocker's cap before the log ([Giraud] fig. 7)
   RatioAttenuation ratio = RatioAttenuation::kOff;
-  float min_sin = 0.02f;  // skip blockers smaller than this (sin of the angular radius)
+  float min_sin = 0.05f;  // skip blockers smaller than this (sin of the angular radius)
   // Deepest log-visibility, in blockers (units of log eps), handed to the exponential: where
   // overlapping caps sum deeper, the whole sum is scaled back to this depth
   // (blocker_accumulation.h).

@@ -1,0 +1,182 @@
+#include "penumbra/game/boulders.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "penumbra/assets/gltf.h"
+#include "penumbra/assets/load_error.h"
+#include "penumbra/assets/sphere_file.h"
+#include "penumbra/assets/sphere_fit.h"
+#include "penumbra/components/frame_time.h"
+#include "penumbra/components/lighting_result.h"
+#include "penumbra/components/mesh.h"
+#include "penumbra/components/receiver.h"
+#include "penumbra/components/receiver_lighting.h"
+#include "penumbra/components/sphere_set.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
+
+namespace penumbra::game {
+namespace {
+
+using components::FrameTime;
+using components::Terrain;
+using components::Transform;
+
+// Area-weighted vertex normals where the model has none.
+std::vector<glm::vec3> vertex_normals(const data::MeshData& m) {
+  if (m.normals.size() == m.positions.size()) return m.normals;
+  std::vector<glm::vec3> n(m.positions.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
+    const glm::vec3 &a = m.positions[m.indices[i]], &b = m.positions[m.indices[i + 1]],
+                    &c = m.positions[m.indices[i + 2]];
+    const glm::vec3 f = glm::cross(b - a, c - a);
+    for (int k = 0; k < 3; ++k) n[m.indices[i + k]] += f;
+  }
+  for (glm::vec3& v : n) {
+    const float l = glm::length(v);
+    v = l > 0 ? v / l : glm::vec3(0, 0, 1);
+  }
+  return n;
+}
+
+// The model's sphere set: from the cache when it holds a valid fit of this model with this
+// count, else fitted now (and cached).
+std::vector<data::Sphere> sphere_set(const data::MeshData& mesh, const std::string& name, int count,
+                                     const std::string& cache_dir) {
+  std::filesystem::path cached;
+  if (!cache_dir.empty()) {
+    cached = std::filesystem::path(cache_dir) / (name + "_" + std::to_string(count) + ".psph");
+    try {
+      if (std::filesystem::exists(cached)) {
+        assets::SphereSetFile f = assets::load_sphere_file(cached);
+        if (f.spheres.size() == static_cast<std::size_t>(count)) return std::move(f.spheres);
+      }
+    } catch (const assets::LoadError&) {
+      // corrupt or stale: fitted again below, and rewritten
+    }
+  }
+  assets::SphereFitOptions o;
+  o.count = count;
+  o.method = assets::SphereFitMethod::kVariational;  // under a second; half k-means' Er
+  o.surface_samples = 4096;
+  o.volume_cells = 16384;
+  o.eval_samples = 1 << 14;
+  o.coverage_samples = 1 << 12;
+  const assets::SphereFitResult fit = assets::fit_spheres(mesh, o);
+  if (!cached.empty()) {
+    std::filesystem::create_directories(cached.parent_path());
+    assets::write_sphere_file(cached, assets::to_sphere_file(fit, name));
+  }
+  return fit.spheres;
+}
+
+float terrain_height(const Terrain& t, glm::vec2 xy) {
+  const data::HeightField& f = *t.heights;
+  const glm::vec2 q = (xy - glm::vec2(t.origin)) / f.cell_size;
+  const float fx = std::clamp(q.x, 0.0f, static_cast<float>(f.width - 1));
+  const float fy = std::clamp(q.y, 0.0f, static_cast<float>(f.height - 1));
+  const int x0 = std::min(static_cast<int>(fx), f.width - 2);
+  const int y0 = std::min(static_cast<int>(fy), f.height - 2);
+  const float ax = fx - x0, ay = fy - y0;
+  const float h = (1 - ay) * ((1 - ax) * f.at(x0, y0) + ax * f.at(x0 + 1, y0)) +
+                  ay * ((1 - ax) * f.at(x0, y0 + 1) + ax * f.at(x0 + 1, y0 + 1));
+  return t.origin.z + t.height_scale * h;
+}
+
+void roll(ecs::World& w) {
+  const float t = static_cast<float>(w.resource<const FrameTime>().elapsed);
+  const Terrain* terrain = nullptr;
+  w.query<const Terrain>().each([&](const Terrain& x) {
+    if (!terrain && x.heights) terrain = &x;
+  });
+  w.query<const Boulder, Transform>().each([&](const Boulder& b, Transform& out) {
+    const float a = b.phase + b.speed * t / b.path_radius;  // angle along the circle
+    const glm::vec2 xy = b.path_radius * glm::vec2(std::cos(a), std::sin(a));
+    const float ground = terrain ? terrain_height(*terrain, xy) : 0.0f;
+    // Rolling without slipping: turned by distance / radius about the horizontal axis at right
+    // angles to the motion.
+    const glm::vec3 forward =
+        glm::vec3(-std::sin(a), std::cos(a), 0.0f) * (b.speed >= 0 ? 1.0f : -1.0f);
+    const glm::vec3 axis = glm::cross(glm::vec3(0, 0, 1), forward);
+    const float turned = std::abs(b.speed) * t / b.radius;
+    glm::mat4 m = glm::translate(glm::mat4(1.0f), glm::vec3(xy, ground + b.radius));
+    m = glm::rotate(m, turned, axis);
+    m = glm::scale(m, glm::vec3(b.scale));
+    out.world = glm::translate(m, -b.model_centre);
+  });
+}
+
+}  // namespace
+
+void populate_boulders(ecs::World& world, const std::string& data_dir,
+                       const BoulderConfig& config) {
+  if (config.count <= 0) return;
+  struct Model {
+    std::shared_ptr<const data::MeshData> mesh;
+    std::shared_ptr<const std::vector<data::Sphere>> spheres;
+    std::shared_ptr<const std::vector<glm::vec3>> points, normals;
+    glm::vec3 centre{0.0f};
+    float radius = 1;
+  };
+  std::vector<Model> models;
+  for (const char* name : {"bunny", "suzi"}) {
+    const std::filesystem::path file =
+        std::filesystem::path(data_dir) / "models" / (std::string(name) + ".glb");
+    auto mesh = std::make_shared<data::MeshData>(assets::merge_instances(assets::load_gltf(file)));
+    Model m;
+    m.spheres = std::make_shared<const std::vector<data::Sphere>>(
+        sphere_set(*mesh, name, config.spheres, config.cache_dir));
+    // Bounding sphere of the set: centre of its box, radius to the farthest sphere surface.
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const data::Sphere& s : *m.spheres) {
+      lo = glm::min(lo, s.centre - s.radius);
+      hi = glm::max(hi, s.centre + s.radius);
+    }
+    m.centre = 0.5f * (lo + hi);
+    m.radius = 0;
+    for (const data::Sphere& s : *m.spheres)
+      m.radius = std::max(m.radius, glm::length(s.centre - m.centre) + s.radius);
+    m.points = std::make_shared<const std::vector<glm::vec3>>(mesh->positions);
+    m.normals = std::make_shared<const std::vector<glm::vec3>>(vertex_normals(*mesh));
+    m.mesh = std::move(mesh);
+    models.push_back(std::move(m));
+  }
+  const Terrain* terrain = nullptr;
+  world.query<const Terrain>().each([&](const Terrain& x) {
+    if (!terrain && x.heights) terrain = &x;
+  });
+  const float extent =
+      terrain ? terrain->heights->cell_size * (terrain->heights->width - 1) : 20000.0f;
+  for (int i = 0; i < config.count; ++i) {
+    const Model& m = models[i % 3 == 2 ? 1 : 0];  // bunny, bunny, Suzanne, ...
+    Boulder b;
+    b.path_radius = extent * (0.12f + 0.3f * static_cast<float>(i) / config.count);
+    b.phase = 2.4f * static_cast<float>(i);  // golden-angle-ish spread
+    b.speed = (i % 2 ? 1.0f : -1.0f) * (150.0f + 20.0f * static_cast<float>(i % 5));
+    b.radius = config.radius * (0.8f + 0.4f * static_cast<float>(i % 3) / 2.0f);
+    b.scale = b.radius / m.radius;
+    b.model_centre = m.centre;
+    const glm::vec4 colour =
+        i % 2 ? glm::vec4(0.62f, 0.55f, 0.45f, 1) : glm::vec4(0.5f, 0.5f, 0.52f, 1);
+    world.create_with(b, Transform{}, components::MeshInstance{m.mesh},
+                      components::BaseColor{colour}, components::SphereSet{m.spheres},
+                      components::Receiver{m.points, m.normals}, components::ReceiverLighting{},
+                      components::VertexLighting{});
+  }
+}
+
+void add_boulder_systems(jobs::Schedule& schedule) {
+  schedule.add_task("demo_boulders", [](jobs::SystemContext& ctx) { roll(ctx.world()); })
+      .reads<FrameTime, Terrain, Boulder>()
+      .writes<Transform>();
+}
+
+}  // namespace penumbra::game

@@ -1,0 +1,45 @@
+// The demo's rolling boulders (issue 11): the bunny and Suzanne (../shared/data/models; two
+// bunnies for each Suzanne, whose 15k triangles cost lavapipe more), scaled to hill size, rolling
+// over the terrain on circles. Each is a blocker (SphereSet: a fitted sphere set) and a receiver
+// (its vertices), drawn as a mesh with the blocker system's VertexLighting: they shadow the terrain
+// and each other, and the terrain shadows them.
+//
+// Sphere sets are fitted once (k-means, assets/sphere_fit.h) and kept as sphere files in
+// `cache_dir` (checksummed; a corrupt or stale file is fitted again and rewritten).
+//
+// System: demo_boulders reads FrameTime, Terrain, Boulder; writes Transform (register before
+// the blocker systems).
+#pragma once
+
+#include <string>
+
+#include <glm/vec3.hpp>
+
+#include "penumbra/ecs/world.h"
+#include "penumbra/jobs/schedule.h"
+
+namespace penumbra::game {
+
+struct BoulderConfig {
+  int count = 12;         // 0: none
+  int spheres = 16;       // per model
+  float radius = 250.0f;  // metres: the sphere set's bounding radius after scaling
+  std::string cache_dir;  // where fitted sphere files are kept; empty: fit every start
+};
+
+// Per boulder: its path (a circle about the terrain's centre) and size.
+struct Boulder {
+  float path_radius = 0;         // metres
+  float phase = 0;               // radians at t = 0
+  float speed = 0;               // metres per second along the path (sign: direction)
+  float radius = 0;              // bounding radius, metres (rests this high above the ground)
+  float scale = 1;               // model units to metres
+  glm::vec3 model_centre{0.0f};  // the sphere set's bounding centre, model units
+};
+
+// Loads the models from `data_dir`/models, fits or loads their sphere sets, and adds `count`
+// boulder entities. Throws assets::LoadError / FitError naming the file.
+void populate_boulders(ecs::World& world, const std::string& data_dir, const BoulderConfig& config);
+void add_boulder_systems(jobs::Schedule& schedule);
+
+}  // namespace penumbra::game
