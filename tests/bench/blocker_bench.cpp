@@ -173,7 +173,8 @@ struct Pair {
 };
 
 // Receivers with normals up to ~60 deg from +z; spheres in the receiver's upper hemisphere at
-// 0.5-20 radii (some contain the receiver, some are cut by its tangent plane).
+// 0.5-7.5 radii, above the default min_sin cut-off (some contain the receiver, some are cut by
+// its tangent plane).
 std::vector<Pair> pairs() {
   std::mt19937 rng(11);
   std::normal_distribution<float> g(0, 1);
@@ -185,7 +186,7 @@ std::vector<Pair> pairs() {
     glm::vec3 dir = glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
     if (glm::dot(dir, q.n) < 0) dir = -dir;
     q.radius = 0.5f + 2.5f * u(rng);
-    q.centre = q.p + q.radius * (0.5f + 19.5f * u(rng)) * dir;
+    q.centre = q.p + q.radius * (0.5f + 7.0f * u(rng)) * dir;
   }
   return out;
 }
