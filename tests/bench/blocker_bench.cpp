@@ -32,6 +32,7 @@
 #include <glm/geometric.hpp>
 
 #include "bench_registry.h"
+#include "blocker_bench.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
@@ -40,19 +41,6 @@ namespace penumbra::bench::blockers {
 
 namespace ba = penumbra::blocker_accumulation;
 
-// Shared with blocker_frame_bench.cpp (declared again there).
-std::vector<glm::vec3> receiver_grid();
-std::vector<ba::WorldSphere> scattered_spheres(int count);
-double view_flops();
-double add_log_flops(int bands);
-double exp_flops(int bands, double squares);
-double shade_flops(int bands, double squares);
-double depth_eval_flops(int bands);
-void register_frame_benchmarks();
-void summarize_frames(const Results& r, Summary& s, double ns_per_fma);
-Row& add_row(Summary& s, std::string name, std::string unit, std::optional<double> value,
-             std::optional<double> baseline, Goal goal, std::optional<double> floor,
-             std::string note);
 
 constexpr int kSide = 316;         // 316 x 316 = 99,856 receivers
 constexpr float kExtent = 200.0f;  // metres, centred on the origin

@@ -36,25 +36,9 @@
 #include <glm/geometric.hpp>
 
 #include "bench_registry.h"
+#include "blocker_bench.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
-
-namespace penumbra::bench::blockers {
-
-namespace ba = penumbra::blocker_accumulation;
-
-// Defined in blocker_bench.cpp.
-std::vector<glm::vec3> receiver_grid();
-std::vector<ba::WorldSphere> scattered_spheres(int count);
-double view_flops();
-double add_log_flops(int bands);
-double shade_flops(int bands, double squares);
-double depth_eval_flops(int bands);
-Row& add_row(Summary& s, std::string name, std::string unit, std::optional<double> value,
-             std::optional<double> baseline, Goal goal, std::optional<double> floor,
-             std::string note);
-
-}  // namespace penumbra::bench::blockers
 
 namespace {
 namespace pb = penumbra::bench;
@@ -73,44 +57,6 @@ struct Scene {
   std::vector<ba::BlockerGroup> groups;  // empty: every sphere its own group
 };
 
-// The bound and disc coverage of one object's spheres, as blocker_systems.cpp's bound_of: the
-// fraction of the bound's disc covered, averaged over the three axis projections, 32 x 32.
-ba::BlockerGroup group_of(std::span<const ba::WorldSphere> s, std::uint32_t first) {
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const auto& x : s) {
-    lo = glm::min(lo, x.centre - x.radius);
-    hi = glm::max(hi, x.centre + x.radius);
-  }
-  ba::BlockerGroup g;
-  g.first = first;
-  g.count = static_cast<std::uint32_t>(s.size());
-  g.bound.centre = 0.5f * (lo + hi);
-  for (const auto& x : s)
-    g.bound.radius = std::max(g.bound.radius, glm::length(x.centre - g.bound.centre) + x.radius);
-  constexpr int kGrid = 32;
-  int inside = 0, covered = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (int j = 0; j < kGrid; ++j)
-      for (int i = 0; i < kGrid; ++i) {
-        const float x = g.bound.radius * (2 * (i + 0.5f) / kGrid - 1);
-        const float y = g.bound.radius * (2 * (j + 0.5f) / kGrid - 1);
-        if (x * x + y * y > g.bound.radius * g.bound.radius) continue;
-        ++inside;
-        for (const auto& q : s) {
-          const float dx = g.bound.centre[u] + x - q.centre[u];
-          const float dy = g.bound.centre[v] + y - q.centre[v];
-          if (dx * dx + dy * dy <= q.radius * q.radius) {
-            ++covered;
-            break;
-          }
-        }
-      }
-  }
-  g.coverage = std::max(0.01f, static_cast<float>(covered) / static_cast<float>(inside));
-  return g;
-}
-
 Scene objects_scene() {
   std::mt19937 rng(77);
   std::uniform_real_distribution<float> xy(-100, 100), z(4, 8), r(0.5f, 1.5f), u(-1, 1);
@@ -124,7 +70,7 @@ Scene objects_scene() {
       while (glm::dot(d, d) > 1);
       scene.spheres.push_back({centre + 3.0f * d, r(rng)});
     }
-    scene.groups.push_back(group_of(std::span(scene.spheres).subspan(first, 16), first));
+    scene.groups.push_back(ba::bound_group(std::span(scene.spheres).subspan(first, 16), first));
   }
   return scene;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -25,6 +26,44 @@ std::string str(const glm::vec3& v) {
 }
 
 }  // namespace
+
+BlockerGroup bound_group(std::span<const WorldSphere> spheres, std::uint32_t first) {
+  BlockerGroup g;
+  g.first = first;
+  g.count = static_cast<std::uint32_t>(spheres.size());
+  if (spheres.empty()) return g;
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const WorldSphere& s : spheres) {
+    lo = glm::min(lo, s.centre - s.radius);
+    hi = glm::max(hi, s.centre + s.radius);
+  }
+  g.bound.centre = 0.5f * (lo + hi);
+  for (const WorldSphere& s : spheres)
+    g.bound.radius = std::max(g.bound.radius, glm::length(s.centre - g.bound.centre) + s.radius);
+  if (!(g.bound.radius > 0)) return g;
+  constexpr int kGrid = 32;
+  int inside = 0, covered = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int j = 0; j < kGrid; ++j)
+      for (int i = 0; i < kGrid; ++i) {
+        const float x = g.bound.radius * (2 * (i + 0.5f) / kGrid - 1);
+        const float y = g.bound.radius * (2 * (j + 0.5f) / kGrid - 1);
+        if (x * x + y * y > g.bound.radius * g.bound.radius) continue;
+        ++inside;
+        for (const WorldSphere& s : spheres) {
+          const float dx = g.bound.centre[u] + x - s.centre[u];
+          const float dy = g.bound.centre[v] + y - s.centre[v];
+          if (dx * dx + dy * dy <= s.radius * s.radius) {
+            ++covered;
+            break;
+          }
+        }
+      }
+  }
+  g.coverage = inside > 0 ? std::max(0.01f, static_cast<float>(covered) / inside) : 1.0f;
+  return g;
+}
 
 template <int N>
 sh::Zonal<N> BlockerAccumulation<N>::log_diffuse_zh(float epsilon) {

@@ -57,40 +57,16 @@ sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   return radiance;
 }
 
-// A set's bound (in its own frame) and the fraction of the bound's disc its spheres cover,
-// averaged over the three axis projections on a 32 x 32 grid (for BlockerGroup::coverage).
+// A set's bound in its own frame and its disc coverage (bound_group, blocker_accumulation.h).
 SetBound bound_of(const std::vector<components::Sphere>& spheres) {
+  std::vector<WorldSphere> local(spheres.size());
+  for (std::size_t i = 0; i < spheres.size(); ++i)
+    local[i] = {spheres[i].centre, spheres[i].radius};
+  const BlockerGroup g = bound_group(local);
   SetBound b;
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const components::Sphere& s : spheres) {
-    lo = glm::min(lo, s.centre - s.radius);
-    hi = glm::max(hi, s.centre + s.radius);
-  }
-  if (spheres.empty()) return b;
-  b.centre = 0.5f * (lo + hi);
-  for (const components::Sphere& s : spheres)
-    b.radius = std::max(b.radius, glm::length(s.centre - b.centre) + s.radius);
-  if (!(b.radius > 0)) return b;
-  constexpr int kGrid = 32;
-  int inside = 0, covered = 0;
-  for (int axis = 0; axis < 3; ++axis) {
-    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-    for (int j = 0; j < kGrid; ++j)
-      for (int i = 0; i < kGrid; ++i) {
-        const float x = b.radius * (2 * (i + 0.5f) / kGrid - 1);
-        const float y = b.radius * (2 * (j + 0.5f) / kGrid - 1);
-        if (x * x + y * y > b.radius * b.radius) continue;
-        ++inside;
-        for (const components::Sphere& s : spheres) {
-          const float dx = b.centre[u] + x - s.centre[u], dy = b.centre[v] + y - s.centre[v];
-          if (dx * dx + dy * dy <= s.radius * s.radius) {
-            ++covered;
-            break;
-          }
-        }
-      }
-  }
-  b.coverage = inside > 0 ? std::max(0.01f, static_cast<float>(covered) / inside) : 1.0f;
+  b.centre = g.bound.centre;
+  b.radius = g.bound.radius;
+  b.coverage = g.coverage;
   return b;
 }
 

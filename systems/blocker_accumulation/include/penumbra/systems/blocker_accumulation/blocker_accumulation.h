@@ -52,6 +52,11 @@ struct BlockerGroup {
   float coverage = 1;  // (0, 1]
 };
 
+// The group of `spheres` (an object's, in any frame) starting at index `first`: their bounding
+// sphere and the fraction of the bound's disc they cover, averaged over the three axis
+// projections on a 32 x 32 grid (at least 0.01). Empty input: a zero bound.
+BlockerGroup bound_group(std::span<const WorldSphere> spheres, std::uint32_t first = 0);
+
 struct BlockerSettings {
   SphereBlockerSettings blocker;
   BlockerShading shading = BlockerShading::kProduct;
