@@ -13,6 +13,7 @@
 #include "penumbra/assets/load_error.h"
 #include "penumbra/assets/sphere_file.h"
 #include "penumbra/assets/sphere_fit.h"
+#include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/mesh.h"
@@ -114,10 +115,39 @@ void roll(ecs::World& w) {
   });
 }
 
+// Three great circles (16 segments each) per sphere of every boulder's set, in world space.
+void draw_spheres(ecs::World& w) {
+  const bool on = w.resource<const BoulderView>().spheres;
+  w.query<const Boulder, const components::SphereSet, const Transform, components::DebugLines>()
+      .each([&](const Boulder&, const components::SphereSet& set, const Transform& t,
+                components::DebugLines& out) {
+        out.lines.clear();
+        if (!on || !set.spheres) return;
+        const float scale = glm::length(glm::vec3(t.world[0]));
+        constexpr int kSegments = 16;
+        for (const data::Sphere& s : *set.spheres) {
+          const glm::vec3 c = glm::vec3(t.world * glm::vec4(s.centre, 1.0f));
+          const float r = s.radius * scale;
+          for (int axis = 0; axis < 3; ++axis) {
+            glm::vec3 prev{};
+            for (int k = 0; k <= kSegments; ++k) {
+              const float a = 2 * std::numbers::pi_v<float> * k / kSegments;
+              glm::vec3 q(0.0f);
+              q[(axis + 1) % 3] = r * std::cos(a);
+              q[(axis + 2) % 3] = r * std::sin(a);
+              if (k > 0) out.lines.push_back({prev, c + q, {0.3f, 2.0f, 3.0f}});
+              prev = c + q;
+            }
+          }
+        }
+      });
+}
+
 }  // namespace
 
 void populate_boulders(ecs::World& world, const std::string& data_dir,
                        const BoulderConfig& config) {
+  world.emplace_resource<BoulderView>(BoulderView{config.show_spheres});
   if (config.count <= 0) return;
   struct Model {
     std::shared_ptr<const data::MeshData> mesh;
@@ -169,7 +199,7 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
     world.create_with(b, Transform{}, components::MeshInstance{m.mesh},
                       components::BaseColor{colour}, components::SphereSet{m.spheres},
                       components::Receiver{m.points, m.normals}, components::ReceiverLighting{},
-                      components::VertexLighting{});
+                      components::VertexLighting{}, components::DebugLines{});
   }
 }
 
@@ -177,6 +207,10 @@ void add_boulder_systems(jobs::Schedule& schedule) {
   schedule.add_task("demo_boulders", [](jobs::SystemContext& ctx) { roll(ctx.world()); })
       .reads<FrameTime, Terrain, Boulder>()
       .writes<Transform>();
+  schedule
+      .add_task("demo_boulder_spheres", [](jobs::SystemContext& ctx) { draw_spheres(ctx.world()); })
+      .reads<Boulder, components::SphereSet, Transform, BoulderView>()
+      .writes<components::DebugLines>();
 }
 
 }  // namespace penumbra::game

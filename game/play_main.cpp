@@ -43,7 +43,8 @@ using penumbra::play::Options;
                "[--frames N] [--threads T] "
                "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
                "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
-               "[--points N] [--boulders N] [--terrain-lod PX] [--light-budget F] [--bench FILE "
+               "[--points N] [--boulders N] [--show-spheres] [--terrain-lod PX] [--light-budget F] "
+               "[--bench FILE "
                "[--bench-splits "
                "T:L,...]] [--gpu-timing-frames N]\n",
                error);
@@ -94,6 +95,8 @@ Options parse(int argc, char** argv) {
       o.validation = true;
     else if (a == "--points")
       o.points = static_cast<std::size_t>(number(0));
+    else if (a == "--show-spheres")
+      o.show_spheres = true;
     else if (a == "--boulders")
       o.boulders = static_cast<int>(number(0));
     else if (a == "--terrain-lod") {

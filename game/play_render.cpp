@@ -64,6 +64,7 @@ struct Sim {
       demo.data_dir = o.data;
       if (o.light_budget > 0) demo.light_refresh.budget = o.light_budget;
       if (o.boulders >= 0) demo.boulders.count = o.boulders;
+      demo.boulders.show_spheres = o.show_spheres;
       demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
       game::populate_terrain_demo(world, demo);
       world.resource<game::HorizonProbe>().aspect =

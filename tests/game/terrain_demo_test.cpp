@@ -11,6 +11,7 @@
 #include <string>
 
 #include "penumbra/assets/load_error.h"
+#include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver_lighting.h"
@@ -130,6 +131,13 @@ TEST(TerrainDemo, BouldersRollShadeAndShadowTheTerrain) {
         moved += glm::length(glm::vec3(t.world[3]) - first[static_cast<std::size_t>(k++)]) > 1.0f;
       });
   EXPECT_EQ(moved, 3);
+  // The debug view: each sphere as three wire circles of 16 segments, only when asked for.
+  world.resource<BoulderView>().spheres = true;
+  executor.run(schedule, world);
+  std::size_t lines = 0;
+  world.query<const Boulder, const components::DebugLines>().each(
+      [&](const Boulder&, const components::DebugLines& d) { lines += d.lines.size(); });
+  EXPECT_EQ(lines, 3u * 8 * 3 * 16);
   // A second start loads the cached sets instead of fitting again.
   ecs::World again;
   populate_terrain_demo(again, config);

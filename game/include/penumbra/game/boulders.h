@@ -7,8 +7,10 @@
 // Sphere sets are fitted once (k-means, assets/sphere_fit.h) and kept as sphere files in
 // `cache_dir` (checksummed; a corrupt or stale file is fitted again and rewritten).
 //
-// System: demo_boulders reads FrameTime, Terrain, Boulder; writes Transform (register before
-// the blocker systems).
+// Systems: demo_boulders reads FrameTime, Terrain, Boulder; writes Transform (register before
+// the blocker systems). demo_boulder_spheres reads Boulder, SphereSet, Transform, BoulderView;
+// writes DebugLines: with BoulderView::spheres, three wire circles per sphere (the sets the
+// blocker system sees), else nothing.
 #pragma once
 
 #include <string>
@@ -21,10 +23,16 @@
 namespace penumbra::game {
 
 struct BoulderConfig {
-  int count = 12;         // 0: none
-  int spheres = 16;       // per model
-  float radius = 250.0f;  // metres: the sphere set's bounding radius after scaling
-  std::string cache_dir;  // where fitted sphere files are kept; empty: fit every start
+  int count = 12;             // 0: none
+  int spheres = 16;           // per model
+  float radius = 250.0f;      // metres: the sphere set's bounding radius after scaling
+  std::string cache_dir;      // where fitted sphere files are kept; empty: fit every start
+  bool show_spheres = false;  // the debug view: each sphere set as wire circles
+};
+
+// Resource: what the boulders' debug view draws (BoulderConfig::show_spheres at start).
+struct BoulderView {
+  bool spheres = false;
 };
 
 // Per boulder: its path (a circle about the terrain's centre) and size.
