@@ -51,6 +51,7 @@ std::vector<reference::Receiver> ground_receivers() {
   return out;
 }
 
+template <int B = N>
 Errors measure(const data::EnvironmentMap& map, const std::vector<WorldSphere>& spheres,
                const BlockerSettings& settings) {
   reference::SceneDesc desc;
@@ -65,9 +66,9 @@ Errors measure(const data::EnvironmentMap& map, const std::vector<WorldSphere>& 
   const auto ref = reference::environment_irradiance(with, receivers, o);
   const auto ref_open = reference::environment_irradiance(open, receivers, o);
 
-  BlockerAccumulation<N> acc(settings);
+  BlockerAccumulation<B> acc(settings);
   acc.set_blockers(spheres);
-  const sh::CoeffsRgb<N> radiance = sh::project_equirect<N>(map.rgb.data(), map.width, map.height);
+  const sh::CoeffsRgb<B> radiance = sh::project_equirect<B>(map.rgb.data(), map.width, map.height);
   double open_mean = 0;
   for (const auto& r : ref_open) open_mean += r.mean.y / ref_open.size();
   Errors e;
@@ -115,6 +116,22 @@ TEST(BlockerAccuracy, OneSphereOverAPlane) {
   // sky.exr's sun, eclipsed by the sphere for some receivers, is far above 4 bands: the hard
   // sun shadow is what 16 coefficients cannot hold (measured 19.7% RMS, 43% max).
   EXPECT_LT(c.rms, 0.25f);
+}
+
+// Bands: the same scene at 3, 4 and 5 bands (what the SH truncation of V x cosine costs).
+TEST(BlockerAccuracy, BandsThreeToFive) {
+  const std::vector<WorldSphere> one = {{{0, 0, 2}, 1}};
+  const Errors b3 = measure<3>(uniform_sky(), one, {});
+  const Errors b4 = measure<4>(uniform_sky(), one, {});
+  const Errors b5 = measure<5>(uniform_sky(), one, {});
+  print("one sphere, uniform sky, 3 bands", b3);
+  print("one sphere, uniform sky, 4 bands", b4);
+  print("one sphere, uniform sky, 5 bands", b5);
+  EXPECT_LT(b3.rms, 0.05f);   // measured 3.7%
+  EXPECT_LT(b4.rms, 0.03f);   // 1.5%
+  EXPECT_LT(b5.rms, 0.015f);  // 0.9%
+  EXPECT_LT(b5.rms, b4.rms);  // the error falls as bands are added
+  EXPECT_LT(b4.rms, b3.rms);
 }
 
 TEST(BlockerAccuracy, OverlappingSpheres) {
