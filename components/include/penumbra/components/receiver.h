@@ -15,10 +15,4 @@ struct Receiver {
   std::shared_ptr<const std::vector<glm::vec3>> normals;  // one per point, unit length
 };
 
-// Diffuse albedo and Phong exponent of a receiver's surface ([Giraud] sec. 5).
-struct Material {
-  glm::vec3 albedo{0.8f};
-  float phong_exponent = 0;  // 0: diffuse only
-};
-
 }  // namespace penumbra::components
