@@ -213,38 +213,39 @@ TEST_P(ExecutorTest, UndeclaredAccessFailsTheFrameLoudly) {
   EXPECT_EQ(w.resource<Counter>().value, 0);
 
   Schedule reads_undeclared;  // per chunk, on whichever worker runs it
-  reads_undeclared.add_each<Visited>("visit", [&w](Visited& v) {
-    v.count += w.resource<const Counter>().value;
-  });
+  reads_undeclared.add_each<Visited>(
+      "visit", [&w](Visited& v) { v.count += w.resource<const Counter>().value; });
   EXPECT_THROW(ex.run(reads_undeclared, w), ecs::AccessViolation);
 }
 
 // Systems that run at the same time, each with its own parallel_for over entities it looks up in
 // the world: no thread runs one system's work under the other's declaration.
 TEST_P(ExecutorTest, ConcurrentSystemsWithInnerParallelLoopsPassTheChecks) {
+#if defined(PENUMBRA_TSAN)
+  GTEST_SKIP() << "a raw tbb::parallel_for inside a system: Debian's libtbb is not instrumented, "
+                  "so TSan cannot see its hand-offs (the checked and ASan builds run this test)";
+#endif
   ecs::World w;
   std::vector<ecs::Entity> a, b;
-  for (int i = 0; i < 2000; ++i) a.push_back(w.create_with(Counter{}));
-  for (int i = 0; i < 2000; ++i) b.push_back(w.create_with(Visited{}));
-  Schedule s;
+  for (int i = 0; i < 2000; ++i) a.push_back(w.create_with(Counter{i}));
+  for (int i = 0; i < 2000; ++i) b.push_back(w.create_with(Visited{i}));
+  std::vector<int> seen_a(a.size(), -1), seen_b(b.size(), -1);
   // One task per entity: plenty of chances for a waiting thread to steal.
-  s.add_task("counters", [&a](SystemContext& ctx) {
-     tbb::parallel_for(
-         std::size_t{0}, a.size(), std::size_t{1},
-         [&](std::size_t i) { ++ctx.world().get_mut<Counter>(a[i])->value; },
-         tbb::simple_partitioner());
-   }).writes<Counter>();
-  s.add_task("visits", [&b](SystemContext& ctx) {
-     tbb::parallel_for(
-         std::size_t{0}, b.size(), std::size_t{1},
-         [&](std::size_t i) { ++ctx.world().get_mut<Visited>(b[i])->count; },
-         tbb::simple_partitioner());
-   }).writes<Visited>();
+  const auto inner = [](std::size_t n, auto&& body) {
+    tbb::parallel_for(std::size_t{0}, n, std::size_t{1}, body, tbb::simple_partitioner());
+  };
+  Schedule s;
+  s.add_task("counters", [&](SystemContext& ctx) {
+     inner(a.size(), [&](std::size_t i) { seen_a[i] = ctx.world().get<Counter>(a[i])->value; });
+   }).reads<Counter>();
+  s.add_task("visits", [&](SystemContext& ctx) {
+     inner(b.size(), [&](std::size_t i) { seen_b[i] = ctx.world().get<Visited>(b[i])->count; });
+   }).reads<Visited>();
   Executor ex(GetParam());
   for (int f = 0; f < 50; ++f) ASSERT_NO_THROW(ex.run(s, w));
   int bad = 0;
-  w.query<const Counter>().each([&](const Counter& c) { bad += c.value != 50; });
-  w.query<const Visited>().each([&](const Visited& v) { bad += v.count != 50; });
+  for (std::size_t i = 0; i < a.size(); ++i) bad += seen_a[i] != static_cast<int>(i);
+  for (std::size_t i = 0; i < b.size(); ++i) bad += seen_b[i] != static_cast<int>(i);
   EXPECT_EQ(bad, 0);
 }
 
