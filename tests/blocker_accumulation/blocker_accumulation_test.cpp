@@ -165,6 +165,54 @@ TEST(BlockerAccuracy, RatioAttenuationFailsForSmallNearInLineWithBigFar) {
   EXPECT_LT(a.rms, 0.06f);
 }
 
+// A local spherical light seen through a blocker: the light's cap as SH radiance, shadowed by
+// the same visibility. Against the reference's light estimator, receivers on the ground under a
+// light of radius 1.5 at height 6 and a sphere of radius 0.8 at height 3 beside the axis.
+TEST(BlockerAccuracy, SphericalLightThroughABlocker) {
+  const reference::SphereLight light{{0, 0, 6}, 1.5f, {4, 4, 4}, "light"};
+  const WorldSphere blocker{{1, 0, 3}, 0.8f};
+  reference::SceneDesc desc;
+  desc.lights.push_back(light);
+  desc.spheres.push_back({blocker.centre, blocker.radius, "blocker"});
+  const reference::Scene with(desc);
+  desc.spheres.clear();
+  const reference::Scene open(desc);
+  const std::vector<reference::Receiver> receivers = ground_receivers();
+  reference::LightOptions o;
+  o.samples = 4096;
+  const auto ref = reference::light_irradiance(with, receivers, o);
+  const auto ref_open = reference::light_irradiance(open, receivers, o);
+  BlockerAccumulation<N> acc;
+  acc.set_blockers({blocker});
+  acc.set_lights({{light.center, light.radius, light.radiance}});
+  BlockerAccumulation<N> no_blocker;
+  no_blocker.set_lights({{light.center, light.radius, light.radiance}});
+  const sh::CoeffsRgb<N> dark{};
+  double mean = 0, sq = 0, sq_open = 0;
+  float deepest = 0, ours_deepest = 0;
+  for (const auto& r : ref_open) mean += r.mean.y / ref_open.size();
+  for (std::size_t i = 0; i < receivers.size(); ++i) {
+    const float e = acc.irradiance(dark, receivers[i].position, receivers[i].normal).y;
+    const float e_open = no_blocker.irradiance(dark, receivers[i].position, receivers[i].normal).y;
+    sq += (e - ref[i].mean.y) * (e - ref[i].mean.y);
+    sq_open += (e_open - ref_open[i].mean.y) * (e_open - ref_open[i].mean.y);
+    deepest = std::max(deepest, 1 - ref[i].mean.y / ref_open[i].mean.y);
+    ours_deepest = std::max(ours_deepest, 1 - e / e_open);
+  }
+  const double rms = std::sqrt(sq / receivers.size()) / mean;
+  const double rms_open = std::sqrt(sq_open / receivers.size()) / mean;
+  std::printf(
+      "spherical light, no blocker: rel RMS %.2f%%; through the blocker: %.2f%% "
+      "(deepest shadow: reference %.0f%%, ours %.0f%%)\n",
+      100 * rms_open, 100 * rms, 100 * deepest, 100 * ours_deepest);
+  // Measured: 4.4% without the blocker, 32% through it. The eclipse is hard (the reference's
+  // deepest shadow is total) and 16 coefficients blur it to 29% at most: the SH band limit of
+  // the light's cap times the visibility, the limit of the method for small bright lights.
+  EXPECT_GT(ours_deepest, 0.2f);  // the blocker does shadow the light
+  EXPECT_LT(rms_open, 0.08);
+  EXPECT_LT(rms, 0.4);
+}
+
 // 001 sec. 4.2: log(eps) accumulated m times. The same sphere m times over one receiver (the
 // exact visibility is that of one sphere): output finite, within [0, open sky], error printed.
 TEST(BlockerStability, ManyOverlappingBlockersStayFiniteAndBounded) {

@@ -140,6 +140,17 @@ void BlockerAccumulation<N>::set_blockers(std::vector<WorldSphere> spheres,
 }
 
 template <int N>
+void BlockerAccumulation<N>::set_lights(std::vector<LightSource> lights) {
+  for (std::size_t i = 0; i < lights.size(); ++i)
+    if (!finite(lights[i].centre) || !finite(lights[i].radiance) ||
+        !(std::isfinite(lights[i].radius) && lights[i].radius >= 0))
+      throw std::invalid_argument("light " + std::to_string(i) + ": centre " +
+                                  str(lights[i].centre) + ", radius " +
+                                  std::to_string(lights[i].radius) + " or radiance not valid");
+  lights_ = std::move(lights);
+}
+
+template <int N>
 sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::vec3& n,
                                                  Contributors& contributors) const {
   sh::Coeffs<N> sum{};
@@ -215,8 +226,18 @@ glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, c
     scale = std::numbers::pi_v<float>;  // the BRDF carried 1 / pi
     if (visibility_out) *visibility_out = sh::exp_visibility<N>(log_v);
   }
-  return scale * glm::vec3(sh::dot<N>(radiance[0], transfer), sh::dot<N>(radiance[1], transfer),
-                           sh::dot<N>(radiance[2], transfer));
+  sh::CoeffsRgb<N> seen = radiance;
+  for (const LightSource& l : lights_) {  // [Meier13] eq. 4.27: the light's cap as ZH
+    const glm::vec3 to = l.centre - p;
+    const float d = glm::length(to);
+    if (!(d > l.radius) || !(l.radius > 0)) continue;  // inside the light: nothing from it
+    const sh::Coeffs<N> cap =
+        sh::rotate_zh<N>(sh::zh_cap<N>(std::asin(std::min(1.0f, l.radius / d))), to / d);
+    for (int c = 0; c < 3; ++c)
+      for (int k = 0; k < N * N; ++k) seen[c][k] += l.radiance[c] * cap[k];
+  }
+  return scale * glm::vec3(sh::dot<N>(seen[0], transfer), sh::dot<N>(seen[1], transfer),
+                           sh::dot<N>(seen[2], transfer));
 }
 
 template <int N>

@@ -19,6 +19,7 @@
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/sphere_set.h"
+#include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/sh/rotation.h"
@@ -119,6 +120,13 @@ void gather(ecs::World& w) {
                           sb.coverage});
       });
   field.accumulation->set_blockers(std::move(spheres), std::move(groups));
+  std::vector<LightSource> lights;
+  w.query<const components::SphericalLight>().each([&](const components::SphericalLight& l) {
+    if (std::isfinite(l.position.x) && std::isfinite(l.position.y) && std::isfinite(l.position.z) &&
+        std::isfinite(l.radius) && l.radius > 0)
+      lights.push_back({l.position, l.radius, l.radiance});
+  });
+  field.accumulation->set_lights(std::move(lights));
 }
 
 void shade(ecs::World& w) {
@@ -272,7 +280,7 @@ void emplace_blocker_resources(ecs::World& world, const BlockerSettings& setting
 
 void add_blocker_systems(jobs::Schedule& schedule) {
   schedule.add_task("blockers.gather", [](jobs::SystemContext& ctx) { gather(ctx.world()); })
-      .reads<SphereSet, Transform, BlockerSettingsResource>()
+      .reads<SphereSet, Transform, BlockerSettingsResource, components::SphericalLight>()
       .writes<BlockerField>();
   schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
       .reads<Receiver, Transform, EnvironmentLight, components::Terrain, BlockerSettingsResource>()

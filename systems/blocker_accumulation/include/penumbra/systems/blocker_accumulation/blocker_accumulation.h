@@ -57,6 +57,16 @@ struct BlockerGroup {
 // projections on a 32 x 32 grid (at least 0.01). Empty input: a zero bound.
 BlockerGroup bound_group(std::span<const WorldSphere> spheres, std::uint32_t first = 0);
 
+// A local spherical light (uniform radiance over the sphere) the receivers see through the
+// blockers: its cap, as SH radiance towards each receiver, joins the environment's radiance, so
+// the same visibility (blockers and terrain) shadows it. Band-limited like everything here: a
+// light small in the sky is blurred to the SH's resolution.
+struct LightSource {
+  glm::vec3 centre{0.0f};
+  float radius = 0;
+  glm::vec3 radiance{0.0f};
+};
+
 struct BlockerSettings {
   SphereBlockerSettings blocker;
   BlockerShading shading = BlockerShading::kProduct;
@@ -77,6 +87,10 @@ class BlockerAccumulation {
   // order, without gaps (each group's bound is taken as given).
   void set_blockers(std::vector<WorldSphere> spheres, std::vector<BlockerGroup> groups = {});
   std::span<const WorldSphere> blockers() const { return spheres_; }
+  // Local lights added to every receiver's radiance (throws std::invalid_argument naming a light
+  // with a non-finite centre or radiance, or a negative radius). A receiver inside a light gets
+  // nothing from it.
+  void set_lights(std::vector<LightSource> lights);
   const BlockerGrid& grid() const { return grid_; }
 
   // Sum of the log-SH visibilities of every blocker that reaches (p, n), depth-limited.
@@ -113,6 +127,7 @@ class BlockerAccumulation {
   sh::Zonal<N> clamped_cosine_;
   sh::Zonal<N> log_diffuse_;  // of max(cos / pi, brdf_epsilon)
   std::vector<WorldSphere> spheres_;
+  std::vector<LightSource> lights_;
   std::vector<BlockerGroup> groups_;
   BlockerGrid grid_;  // over the groups' bounds
   float cut_sin_;     // sin(80 deg / N)

@@ -1,9 +1,11 @@
 // The blocker accumulation system in the job graph. Two task systems, in this order:
 //
-//   blockers.gather  reads SphereSet, Transform, BlockerSettingsResource; writes BlockerField
+//   blockers.gather  reads SphereSet, Transform, BlockerSettingsResource, SphericalLight; writes
+//       BlockerField
 //       Every entity's spheres moved to world space (centre by the Transform, radius by its
 //       largest axis scale) into one BlockerAccumulation and its spatial grid, one group per
-//       entity (its set's bound: the hierarchy's object level, blocker_accumulation.h). An entity
+//       entity (its set's bound: the hierarchy's object level, blocker_accumulation.h), and
+//       the spherical lights, which receivers then see through the blockers. An entity
 //       whose spheres or transform are not finite is left out and named in BlockerField::errors.
 //   blockers.shade   reads Receiver, Transform, BlockerField, EnvironmentLight, Terrain; writes
 //       ReceiverLighting, VertexLighting. Per entity with all three: its points and normals to
