@@ -16,6 +16,7 @@
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/sh/projection.h"
+#include "penumbra/sh/rotation.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -211,6 +212,46 @@ TEST(BlockerAccuracy, SphericalLightThroughABlocker) {
   EXPECT_GT(ours_deepest, 0.2f);  // the blocker does shadow the light
   EXPECT_LT(rms_open, 0.08);
   EXPECT_LT(rms, 0.4);
+}
+
+// [Giraud] fig. 6 in our terms: the exponentiated log-SH Phong lobe (eq. 27) against the SH
+// Phong lobe itself, under a fixed smooth sky, no blockers; then a blocker across the reflected
+// direction darkens the highlight.
+TEST(BlockerAccuracy, PhongLogBrdfAgainstTheShLobe) {
+  sh::CoeffsRgb<N> sky{};
+  for (auto& c : sky) {
+    c[0] = 3.0f;
+    c[sh::index(1, 0)] = 1.5f;  // brighter towards +z
+    c[sh::index(1, 1)] = 1.0f;  // and towards +x
+    c[sh::index(2, 0)] = 0.5f;
+  }
+  const glm::vec3 p{0, 0, 0}, n{0, 0, 1}, view = glm::normalize(glm::vec3(-1, 0, 1));
+  const glm::vec3 r = glm::normalize(glm::vec3(1, 0, 1));  // the reflected view direction
+  for (const float exponent : {1.0f, 4.0f, 16.0f}) {
+    for (const float eps : {0.01f, 0.1f}) {
+      BlockerSettings s;
+      s.phong_exponent = exponent;
+      s.brdf_epsilon = eps;
+      BlockerAccumulation<N> acc(s);
+      const float ours = acc.glossy_radiance(sky, p, n, view).y;
+      const float exact =
+          sh::dot<N>(sky[1], sh::rotate_zh<N>(BlockerAccumulation<N>::phong_zh(exponent), r));
+      std::printf("Phong r %4.0f, eps %.2f: log-SH %.4f, SH lobe %.4f, relative error %.1f%%\n",
+                  exponent, eps, ours, exact, 100 * std::abs(ours - exact) / exact);
+      EXPECT_TRUE(std::isfinite(ours));
+      if (eps == 0.01f && exponent <= 4) {
+        EXPECT_LT(std::abs(ours - exact), 0.1f * exact);
+      }
+    }
+  }
+  BlockerSettings s;
+  s.phong_exponent = 4;
+  BlockerAccumulation<N> acc(s);
+  const float open = acc.glossy_radiance(sky, p, n, view).y;
+  acc.set_blockers({{3.0f * r, 1.5f}});  // across the highlight
+  EXPECT_LT(acc.glossy_radiance(sky, p, n, view).y, 0.8f * open);
+  BlockerAccumulation<N> diffuse_only;
+  EXPECT_THROW(diffuse_only.glossy_radiance(sky, p, n, view), std::logic_error);
 }
 
 // 001 sec. 4.2: log(eps) accumulated m times. The same sphere m times over one receiver (the

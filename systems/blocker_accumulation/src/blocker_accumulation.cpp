@@ -65,20 +65,19 @@ BlockerGroup bound_group(std::span<const WorldSphere> spheres, std::uint32_t fir
   return g;
 }
 
-template <int N>
-sh::Zonal<N> BlockerAccumulation<N>::log_diffuse_zh(float epsilon) {
-  // f_l = 2 pi N_l int_{-1}^{1} log(max(x / pi, eps)) P_l(x) dx, midpoint rule in x = cos theta
-  // ([Giraud] sec. 5, "Log-SH Diffuse"); 1/2^14 steps leave errors far below float precision
-  // of the result except at the kink x = pi eps, which the fine grid resolves to ~1e-7.
+namespace {
+// z_l = 2 pi N_l int_{-1}^{1} f(x) P_l(x) dx, midpoint rule in x = cos theta over 2^14 steps (the
+// kinks of the clamped logs are resolved to ~1e-7).
+template <int N, class F>
+sh::Zonal<N> project_zonal(F&& f) {
   constexpr int kSteps = 1 << 14;
-  const double log_eps = std::log(static_cast<double>(epsilon));
   double acc[N] = {};
   for (int i = 0; i < kSteps; ++i) {
     const double x = -1 + (i + 0.5) * 2.0 / kSteps;
-    const double f = std::max(std::log(std::max(x / std::numbers::pi, 1e-300)), log_eps);
+    const double v = f(x);
     double p[N];
     sh::legendre(x, N, p);
-    for (int l = 0; l < N; ++l) acc[l] += f * p[l];
+    for (int l = 0; l < N; ++l) acc[l] += v * p[l];
   }
   sh::Zonal<N> z{};
   for (int l = 0; l < N; ++l) {
@@ -87,6 +86,31 @@ sh::Zonal<N> BlockerAccumulation<N>::log_diffuse_zh(float epsilon) {
   }
   return z;
 }
+}  // namespace
+
+template <int N>
+sh::Zonal<N> BlockerAccumulation<N>::log_diffuse_zh(float epsilon) {
+  const double log_eps = std::log(static_cast<double>(epsilon));
+  return project_zonal<N>([&](double x) {  // [Giraud] sec. 5, "Log-SH Diffuse"
+    return std::max(std::log(std::max(x / std::numbers::pi, 1e-300)), log_eps);
+  });
+}
+
+template <int N>
+sh::Zonal<N> BlockerAccumulation<N>::log_phong_zh(float exponent, float epsilon) {
+  const double log_eps = std::log(static_cast<double>(epsilon));
+  const double k = (exponent + 1) / (2 * std::numbers::pi);
+  return project_zonal<N>([&](double x) {  // [Giraud] eq. 27 (r: the Phong exponent)
+    if (x <= 0) return log_eps;
+    return std::max(std::log(k) + exponent * std::log(x), log_eps);
+  });
+}
+
+template <int N>
+sh::Zonal<N> BlockerAccumulation<N>::phong_zh(float exponent) {
+  const double k = (exponent + 1) / (2 * std::numbers::pi);
+  return project_zonal<N>([&](double x) { return x > 0 ? k * std::pow(x, exponent) : 0.0; });
+}
 
 template <int N>
 BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
@@ -94,6 +118,9 @@ BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
       log_eps_(std::log(settings.blocker.epsilon)),
       clamped_cosine_(sh::zh_clamped_cosine<N>()),
       log_diffuse_(log_diffuse_zh(settings.brdf_epsilon)),
+      log_phong_(settings.phong_exponent > 0
+                     ? log_phong_zh(settings.phong_exponent, settings.brdf_epsilon)
+                     : sh::Zonal<N>{}),
       cut_sin_(std::sin(80.0f / N * std::numbers::pi_v<float> / 180.0f)) {  // [Ren06] sec. 5
   const float eps = settings.blocker.epsilon;
   if (!(eps > 0 && eps < 1))
@@ -238,6 +265,22 @@ glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, c
   }
   return scale * glm::vec3(sh::dot<N>(seen[0], transfer), sh::dot<N>(seen[1], transfer),
                            sh::dot<N>(seen[2], transfer));
+}
+
+template <int N>
+glm::vec3 BlockerAccumulation<N>::glossy_radiance(const sh::CoeffsRgb<N>& radiance,
+                                                  const glm::vec3& p, const glm::vec3& n,
+                                                  const glm::vec3& view) const {
+  if (!(settings_.phong_exponent > 0))
+    throw std::logic_error("glossy_radiance needs BlockerSettings::phong_exponent > 0");
+  const glm::vec3 r = 2 * glm::dot(n, view) * n - view;  // the reflected view direction
+  sh::Coeffs<N> sum = log_visibility(p, n);
+  const sh::Coeffs<N> lobe = sh::rotate_zh<N>(log_phong_, glm::normalize(r));
+  for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += lobe[i];
+  // [Giraud] sec. 5: one exponential, then a dot with the lighting. Not exp_visibility: the lobe
+  // peaks at (r + 1) / 2 pi, above the [0, 1] its clamp assumes.
+  const sh::Coeffs<N> s = sh::exp_hyb<N>(sum);
+  return {sh::dot<N>(radiance[0], s), sh::dot<N>(radiance[1], s), sh::dot<N>(radiance[2], s)};
 }
 
 template <int N>

@@ -73,6 +73,8 @@ struct BlockerSettings {
   // kLogBrdf: the floor of max(cos / pi, eps) before its log. The diffuse lobe peaks at
   // 1 / pi = 0.32, so the blockers' 0.2 would flatten most of it (docs/blocker_accumulation.md).
   float brdf_epsilon = 0.01f;
+  // Phong exponent of glossy_radiance's lobe ([Giraud] eq. 27's r); 0: no glossy shading.
+  float phong_exponent = 0;
   BlockerHierarchy hierarchy = BlockerHierarchy::kObjects;
   bool operator==(const BlockerSettings&) const = default;
 };
@@ -109,8 +111,19 @@ class BlockerAccumulation {
              std::span<const glm::vec3> normals, std::span<sh::Coeffs<N>> visibility,
              std::span<glm::vec3> irradiance) const;
 
+  // Radiance reflected towards `view` (unit, from p to the eye) by a normalised Phong lobe of
+  // settings().phong_exponent about the reflected view direction, shadowed by the blockers:
+  // the lobe's log-ZH is added to the log-visibility before one exponential ([Giraud] sec. 5,
+  // eq. 27). Throws std::logic_error when phong_exponent is 0.
+  glm::vec3 glossy_radiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
+                            const glm::vec3& n, const glm::vec3& view) const;
+
   // Canonical log-ZH of max(cos theta / pi, eps) ([Giraud] sec. 5), by quadrature.
   static sh::Zonal<N> log_diffuse_zh(float epsilon);
+  // Canonical log-ZH of the Phong lobe max((r + 1) / 2 pi cos^r, eps), log eps below the
+  // horizon ([Giraud] eq. 27), and the lobe's own ZH (the SH BRDF it approximates).
+  static sh::Zonal<N> log_phong_zh(float exponent, float epsilon);
+  static sh::Zonal<N> phong_zh(float exponent);
 
  private:
   // The raw sum (no depth limit); also the axes and summed weight of the blockers in it.
@@ -126,6 +139,7 @@ class BlockerAccumulation {
   float log_eps_;
   sh::Zonal<N> clamped_cosine_;
   sh::Zonal<N> log_diffuse_;  // of max(cos / pi, brdf_epsilon)
+  sh::Zonal<N> log_phong_;    // of the Phong lobe (phong_exponent > 0)
   std::vector<WorldSphere> spheres_;
   std::vector<LightSource> lights_;
   std::vector<BlockerGroup> groups_;
