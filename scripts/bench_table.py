@@ -11,8 +11,9 @@ scripts/play_table.py). The blockers group adds a table of its frames from build
 (Google Benchmark's output: medians and counters) and the load average's three values.
 """
 import json
-import os
 import sys
+
+from doc_markers import write_between
 
 
 def fmt(v):
@@ -96,15 +97,7 @@ def main(argv):
     print(text)
     begin, end = f"<!-- bench-table:{group}:begin -->", f"<!-- bench-table:{group}:end -->"
     for target in targets:
-        with open(target) as f:
-            doc = f.read()
-        if begin not in doc or end not in doc:
-            sys.exit(f"{target}: no {begin} ... {end} markers")
-        head, rest = doc.split(begin, 1)
-        _, tail = rest.split(end, 1)
-        with open(target + ".tmp", "w") as f:
-            f.write(head + begin + "\n" + text + "\n" + end + tail)
-        os.replace(target + ".tmp", target)
+        write_between(target, begin, end, text)
 
 
 if __name__ == "__main__":

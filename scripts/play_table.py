@@ -11,6 +11,8 @@ the record, measured in one run: no figure in those tables is typed by hand.
 import json
 import sys
 
+from doc_markers import write_between
+
 BEGIN, END = "<!-- play-table:begin -->", "<!-- play-table:end -->"
 
 
@@ -79,16 +81,7 @@ def main(argv):
     text = tables(record)
     print(text)
     for target in targets:
-        with open(target) as f:
-            doc = f.read()
-        if BEGIN not in doc or END not in doc:
-            sys.exit(f"{target}: no {BEGIN} ... {END} markers")
-        head, rest = doc.split(BEGIN, 1)
-        _, tail = rest.split(END, 1)
-        with open(target + ".tmp", "w") as f:
-            f.write(head + BEGIN + "\n" + text + "\n" + END + tail)
-        import os
-        os.replace(target + ".tmp", target)
+        write_between(target, BEGIN, END, text)
 
 
 if __name__ == "__main__":

@@ -10,7 +10,7 @@
 // Methods: all_pairs (min_sin = 0: the grid lists every sphere everywhere; hierarchy off: the
 // same-run baseline), grid (default min_sin, hierarchy off), hierarchy (grid + kObjects).
 // Counters (computed outside the timed loop): view_blocker calls and log-SH additions per
-// receiver, counted by replaying accumulate()'s loop over the grid's candidates at every
+// receiver, counted by the library's own loop (log_visibility's PairCounts) at every
 // receiver; the counted operations of a frame (for the floor); and, at every 50th receiver
 // (1,998), the mean number of HYB squarings and the irradiance's relative RMS and max
 // difference against all_pairs (same settings otherwise): sqrt(sum (E - E_all)^2 / sum E_all^2),
@@ -120,40 +120,12 @@ Analysis analyse(const Scene& scene, Method m) {
   ba::BlockerAccumulation<N> acc(settings), all(settings_for(Method::kAllPairs));
   acc.set_blockers(scene.spheres, scene.groups);
   all.set_blockers(scene.spheres, scene.groups);
-  const float cut_sin = std::sin(80.0f / N * std::numbers::pi_v<float> / 180.0f);
-  const bool cut = settings.hierarchy == ba::BlockerHierarchy::kObjects;
-  double views = 0, added = 0, depth_evals = 0;
-  for (std::size_t i = 0; i < f.points.size(); ++i) {
-    const glm::vec3 p = f.points[i], n = f.normals[i];
-    int count = 0;
-    float weight = 0;
-    const auto visit = [&](const ba::WorldSphere& s, float scale) {
-      ++views;
-      const float w = ba::view_blocker(p, n, s.centre, s.radius, settings.blocker).weight * scale;
-      if (!(w > 0)) return;
-      ++count;
-      weight += w;
-    };
-    const ba::BlockerGrid::Candidates c = acc.grid().candidates(p);
-    for (const auto list : {c.near, c.everywhere})
-      for (const std::uint32_t gi : list) {
-        const ba::BlockerGroup g = scene.groups.empty()
-                                       ? ba::BlockerGroup{scene.spheres[gi], gi, 1, 1.0f}
-                                       : scene.groups[gi];
-        if (g.count == 1) {
-          visit(scene.spheres[g.first], 1.0f);
-          continue;
-        }
-        const float d = glm::length(g.bound.centre - p);
-        const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
-        const float a = cut ? std::clamp((s - cut_sin) / (0.25f * cut_sin), 0.0f, 1.0f) : 1.0f;
-        if (a < 1) visit(g.bound, g.coverage * (1 - a));
-        if (a > 0)
-          for (std::uint32_t k = g.first; k < g.first + g.count; ++k) visit(scene.spheres[k], a);
-      }
-    added += count;
-    if (weight > settings.blocker.max_depth) depth_evals += std::min(count, 64);
-  }
+  // What the library's own loop costs per receiver (log_visibility's PairCounts).
+  typename ba::BlockerAccumulation<N>::PairCounts counts;
+  for (std::size_t i = 0; i < f.points.size(); ++i)
+    acc.log_visibility(f.points[i], f.normals[i], &counts);
+  const double views = static_cast<double>(counts.views), added = static_cast<double>(counts.adds),
+               depth_evals = static_cast<double>(counts.depth_evaluations);
   Analysis a;
   const double receivers = static_cast<double>(f.points.size());
   a.views = views / receivers;

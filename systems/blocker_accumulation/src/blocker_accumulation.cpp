@@ -183,9 +183,11 @@ sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::
   sh::Coeffs<N> sum{};
   const auto add = [&](const WorldSphere& s, float scale) {
     BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
+    ++contributors.views;
     v.weight *= scale;
     if (!(v.weight > 0)) return;
     add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
+    ++contributors.adds;
     contributors.weight += v.weight;
     if (contributors.count < Contributors::kMaxAxes)
       contributors.axes[contributors.count++] = v.axis;
@@ -212,12 +214,18 @@ sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::
 }
 
 template <int N>
-sh::Coeffs<N> BlockerAccumulation<N>::log_visibility(const glm::vec3& p, const glm::vec3& n) const {
+sh::Coeffs<N> BlockerAccumulation<N>::log_visibility(const glm::vec3& p, const glm::vec3& n,
+                                                     PairCounts* counts) const {
   Contributors c;
   sh::Coeffs<N> sum = accumulate(p, n, c);
+  if (counts) {
+    counts->views += c.views;
+    counts->adds += c.adds;
+  }
   const float max_depth = settings_.blocker.max_depth;
   if (!(max_depth > 0) || c.weight <= max_depth) return sum;  // cannot be that deep
-  float deepest = 0;                                          // in units of log eps (positive)
+  if (counts) counts->depth_evaluations += static_cast<std::size_t>(c.count);
+  float deepest = 0;  // in units of log eps (positive)
   for (int k = 0; k < c.count; ++k)
     deepest = std::max(deepest, sh::evaluate<N>(sum, c.axes[k]) / log_eps_);
   if (deepest > max_depth) {

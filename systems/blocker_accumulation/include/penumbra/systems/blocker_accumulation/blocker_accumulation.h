@@ -95,8 +95,15 @@ class BlockerAccumulation {
   void set_lights(std::vector<LightSource> lights);
   const BlockerGrid& grid() const { return grid_; }
 
-  // Sum of the log-SH visibilities of every blocker that reaches (p, n), depth-limited.
-  sh::Coeffs<N> log_visibility(const glm::vec3& p, const glm::vec3& n) const;
+  // What one receiver's sum cost (for benchmarks): blockers viewed (view_blocker calls), log-SH
+  // vectors added, and evaluations of the sum by the depth limit.
+  struct PairCounts {
+    std::size_t views = 0, adds = 0, depth_evaluations = 0;
+  };
+  // Sum of the log-SH visibilities of every blocker that reaches (p, n), depth-limited;
+  // `counts`, when given, gains what the sum cost.
+  sh::Coeffs<N> log_visibility(const glm::vec3& p, const glm::vec3& n,
+                               PairCounts* counts = nullptr) const;
   // The visibility itself: one exponential of that sum.
   sh::Coeffs<N> visibility(const glm::vec3& p, const glm::vec3& n) const;
   // Irradiance (per channel of `radiance`, SH of the distant radiance) at p with unit normal n.
@@ -132,6 +139,7 @@ class BlockerAccumulation {
     glm::vec3 axes[kMaxAxes];
     int count = 0;
     float weight = 0;
+    std::size_t views = 0, adds = 0;
   };
   sh::Coeffs<N> accumulate(const glm::vec3& p, const glm::vec3& n, Contributors& c) const;
 
