@@ -290,6 +290,24 @@ TEST(BlockerStability, EpsilonSweepStaysFinite) {
   }
 }
 
+// What a receiver's sum cost: every candidate is viewed, only those that reach are added.
+TEST(BlockerStability, PairCountsCountViewsAndAdds) {
+  BlockerSettings s;
+  s.blocker.min_sin = 0;  // every sphere is a candidate everywhere
+  BlockerAccumulation<N> acc(s);
+  acc.set_blockers({{{0, 0, 2}, 1}, {{0, 0, -5}, 1}, {{3, 0, 4}, 0.5f}});  // one below the plane
+  BlockerAccumulation<N>::PairCounts c;
+  acc.log_visibility({0, 0, 0}, {0, 0, 1}, &c);
+  EXPECT_EQ(c.views, 3u);
+  EXPECT_EQ(c.adds, 2u);
+  EXPECT_EQ(c.depth_evaluations, 0u);  // two blockers cannot be deeper than max_depth 3
+  acc.set_blockers(std::vector<WorldSphere>(10, WorldSphere{{0, 0, 2}, 1}));
+  acc.log_visibility({0, 0, 0}, {0, 0, 1}, &c);
+  EXPECT_EQ(c.views, 13u);
+  EXPECT_EQ(c.adds, 12u);
+  EXPECT_EQ(c.depth_evaluations, 10u);
+}
+
 TEST(BlockerStability, BadInputIsNamed) {
   BlockerAccumulation<N> acc;
   try {
