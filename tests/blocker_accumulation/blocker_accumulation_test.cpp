@@ -151,6 +151,28 @@ TEST(BlockerAccuracy, OverlappingSpheres) {
   EXPECT_LT(b.rms, 0.20f);
 }
 
+// The two logs of one blocker's visibility: [Giraud]'s log(eps) cap against [Ren06]'s SH log of
+// the visibility with clipped eigenvalues (clipped_log_cap.h), one sphere and five overlapping.
+TEST(BlockerAccuracy, CapEpsilonAgainstClippedEigenLog) {
+  const std::vector<WorldSphere> one = {{{0, 0, 2}, 1}};
+  const std::vector<WorldSphere> five = {{{0, 0, 2}, 1},
+                                         {{0.8f, 0, 2.2f}, 0.8f},
+                                         {{-0.7f, 0.3f, 1.8f}, 0.9f},
+                                         {{0.2f, -0.6f, 2.5f}, 0.7f},
+                                         {{0, 0.5f, 2.8f}, 0.6f}};
+  BlockerSettings ren;
+  ren.blocker.log = BlockerLog::kClippedEigen;
+  const Errors a = measure(uniform_sky(), one, ren);
+  const Errors b = measure(uniform_sky(), five, ren);
+  const Errors c = measure(sky_map(), one, ren);
+  print("one sphere, uniform sky, clipped eigen log", a);
+  print("five overlapping spheres, clipped eigen log", b);
+  print("one sphere, sky.exr, clipped eigen log", c);
+  EXPECT_LT(a.rms, 0.01f);  // measured 0.48% (the eps cap: 1.49%)
+  EXPECT_LT(b.rms, 0.06f);  // 3.6% (the eps cap: 3.1%)
+  EXPECT_LT(c.rms, 0.25f);  // 20.4%: the sun's shadow, as with the eps cap
+}
+
 // [Giraud] sec. 4.2 admits where ratio attenuation fails: a small sphere near the receivers in
 // line with a big one far above. Each is scaled by its own r / |c - p| (here about 0.3 and
 // 0.3), so the shadow they cast together comes out too light.

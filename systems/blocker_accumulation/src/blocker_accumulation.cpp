@@ -129,6 +129,19 @@ BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
     throw std::invalid_argument("blocker brdf_epsilon must be in (0, 1)");
   if (!(settings.blocker.min_sin >= 0 && settings.blocker.min_sin < 1))
     throw std::invalid_argument("blocker min_sin must be in [0, 1)");
+  if (settings.blocker.log == BlockerLog::kClippedEigen)
+    clipped_log_ = std::make_shared<const ClippedLogCap<N>>(settings.blocker.eigen_clip);
+}
+
+template <int N>
+float BlockerAccumulation<N>::add_blocker_log(const BlockerView& v, sh::Coeffs<N>& sum) const {
+  if (!clipped_log_) {
+    add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
+    return 1;
+  }
+  add_log_visibility<N>(v, *clipped_log_, sum);  // [Ren06]: the clipped SH log
+  // Depth at the axis of the widest cap, in units of log eps (bounds this cap's).
+  return std::max(1.0f, clipped_log_->depth() / log_eps_);
 }
 
 template <int N>
@@ -186,9 +199,9 @@ sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::
     ++contributors.views;
     v.weight *= scale;
     if (!(v.weight > 0)) return;
-    add_log_visibility<N>(v, log_eps_, sum);  // [Giraud] eq. 26, summed over blockers
+    const float depth = add_blocker_log(v, sum);
     ++contributors.adds;
-    contributors.weight += v.weight;
+    contributors.weight += v.weight * depth;
     if (contributors.count < Contributors::kMaxAxes)
       contributors.axes[contributors.count++] = v.axis;
   };
@@ -247,6 +260,14 @@ glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, c
   sh::Coeffs<N> log_v = log_visibility(p, n);
   if (extra_log)
     for (std::size_t i = 0; i < log_v.size(); ++i) log_v[i] += (*extra_log)[i];
+  return irradiance_from_log(radiance, p, n, log_v, visibility_out);
+}
+
+template <int N>
+glm::vec3 BlockerAccumulation<N>::irradiance_from_log(const sh::CoeffsRgb<N>& radiance,
+                                                      const glm::vec3& p, const glm::vec3& n,
+                                                      const sh::Coeffs<N>& log_v,
+                                                      sh::Coeffs<N>* visibility_out) const {
   sh::Coeffs<N> transfer;
   float scale = 1;
   if (settings_.shading == BlockerShading::kProduct) {

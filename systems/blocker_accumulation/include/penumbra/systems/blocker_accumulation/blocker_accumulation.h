@@ -25,6 +25,7 @@
 // Threading: set_blockers on one thread; the const members from any number of threads.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -33,6 +34,7 @@
 #include "penumbra/sh/basis.h"
 #include "penumbra/sh/zh.h"
 #include "penumbra/systems/blocker_accumulation/blocker_grid.h"
+#include "penumbra/systems/blocker_accumulation/clipped_log_cap.h"
 #include "penumbra/systems/blocker_accumulation/sphere_blocker.h"
 
 namespace penumbra::blocker_accumulation {
@@ -113,6 +115,11 @@ class BlockerAccumulation {
   glm::vec3 irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p, const glm::vec3& n,
                        sh::Coeffs<N>* visibility_out = nullptr,
                        const sh::Coeffs<N>* extra_log = nullptr) const;
+  // What irradiance() does after log_visibility: shading from a given (depth-limited) log sum
+  // at p with unit normal n (lights, kProduct or kLogBrdf). For ReceiverClusters.
+  glm::vec3 irradiance_from_log(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
+                                const glm::vec3& n, const sh::Coeffs<N>& log_v,
+                                sh::Coeffs<N>* visibility_out = nullptr) const;
   // irradiance() for many receivers; `visibility` may be empty (not wanted) or one per point.
   void shade(const sh::CoeffsRgb<N>& radiance, std::span<const glm::vec3> points,
              std::span<const glm::vec3> normals, std::span<sh::Coeffs<N>> visibility,
@@ -133,6 +140,9 @@ class BlockerAccumulation {
   static sh::Zonal<N> phong_zh(float exponent);
 
  private:
+  template <int>
+  friend class ReceiverClusters;  // reads the groups, spheres and cut (receiver_clusters.h)
+
   // The raw sum (no depth limit); also the axes and summed weight of the blockers in it.
   struct Contributors {
     static constexpr int kMaxAxes = 64;
@@ -142,9 +152,13 @@ class BlockerAccumulation {
     std::size_t views = 0, adds = 0;
   };
   sh::Coeffs<N> accumulate(const glm::vec3& p, const glm::vec3& n, Contributors& c) const;
+  // One blocker's log-SH added to `sum` by settings().blocker.log; returns its depth at the
+  // axis in units of log eps (1 for the eps cap).
+  float add_blocker_log(const BlockerView& v, sh::Coeffs<N>& sum) const;
 
   BlockerSettings settings_;
   float log_eps_;
+  std::shared_ptr<const ClippedLogCap<N>> clipped_log_;  // BlockerLog::kClippedEigen
   sh::Zonal<N> clamped_cosine_;
   sh::Zonal<N> log_diffuse_;  // of max(cos / pi, brdf_epsilon)
   sh::Zonal<N> log_phong_;    // of the Phong lobe (phong_exponent > 0)

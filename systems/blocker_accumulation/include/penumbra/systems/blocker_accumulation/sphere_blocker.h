@@ -35,6 +35,12 @@ namespace penumbra::blocker_accumulation {
 // at the price of under-shadowing small near blockers in line with big far ones).
 enum class RatioAttenuation { kOff, kOn };
 
+// Which log-SH stands for one blocker's visibility.
+//  - kCapEpsilon ([Giraud] eq. 26): log(eps) inside the cap, 0 outside (add_log_visibility).
+//  - kClippedEigen ([Ren06]): the SH log of the cap's band-limited visibility, its product
+//    matrix's eigenvalues clipped at eigen_clip of the largest (clipped_log_cap.h).
+enum class BlockerLog { kCapEpsilon, kClippedEigen };
+
 struct SphereBlockerSettings {
   float epsilon = 0.2f;  // visibility inside a blocker's cap before the log ([Giraud] fig. 7)
   RatioAttenuation ratio = RatioAttenuation::kOff;
@@ -43,6 +49,8 @@ struct SphereBlockerSettings {
   // overlapping caps sum deeper, the whole sum is scaled back to this depth
   // (blocker_accumulation.h).
   float max_depth = 3.0f;
+  BlockerLog log = BlockerLog::kCapEpsilon;
+  float eigen_clip = 0.02f;  // kClippedEigen: the smallest eigenvalue kept, relative ([Ren06])
   bool operator==(const SphereBlockerSettings&) const = default;
 };
 
