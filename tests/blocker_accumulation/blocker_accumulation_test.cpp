@@ -249,23 +249,35 @@ TEST(BlockerAccuracy, PhongLogBrdfAgainstTheShLobe) {
   }
   const glm::vec3 p{0, 0, 0}, n{0, 0, 1}, view = glm::normalize(glm::vec3(-1, 0, 1));
   const glm::vec3 r = glm::normalize(glm::vec3(1, 0, 1));  // the reflected view direction
-  for (const float exponent : {1.0f, 4.0f, 16.0f}) {
-    for (const float eps : {0.01f, 0.1f}) {
+  // Worst relative error over the exponents, per floor: 0.01, 0.1 and the fitted one.
+  float worst[3] = {};
+  for (const float exponent : {1.0f, 4.0f, 16.0f, 64.0f}) {
+    int k = 0;
+    for (const float eps : {0.01f, 0.1f, 0.0f}) {  // 0: fitted to the exponent
       BlockerSettings s;
       s.phong_exponent = exponent;
-      s.brdf_epsilon = eps;
+      s.phong_epsilon = eps;
       BlockerAccumulation<N> acc(s);
       const float ours = acc.glossy_radiance(sky, p, n, view).y;
       const float exact =
           sh::dot<N>(sky[1], sh::rotate_zh<N>(BlockerAccumulation<N>::phong_zh(exponent), r));
-      std::printf("Phong r %4.0f, eps %.2f: log-SH %.4f, SH lobe %.4f, relative error %.1f%%\n",
-                  exponent, eps, ours, exact, 100 * std::abs(ours - exact) / exact);
+      const float err = std::abs(ours - exact) / exact;
+      std::printf("Phong r %4.0f, eps %.3f%s: log-SH %.4f, SH lobe %.4f, relative error %.1f%%\n",
+                  exponent, eps > 0 ? eps : BlockerAccumulation<N>::fitted_phong_epsilon(exponent),
+                  eps > 0 ? "" : " (fitted)", ours, exact, 100 * err);
       EXPECT_TRUE(std::isfinite(ours));
-      if (eps == 0.01f && exponent <= 4) {
-        EXPECT_LT(std::abs(ours - exact), 0.1f * exact);
+      worst[k] = std::max(worst[k], err);
+      if (eps == 0.0f && exponent <= 4) {
+        EXPECT_LT(err, 0.05f);  // measured 2.1%, 1.2%
       }
+      ++k;
     }
   }
+  // Each fixed floor fails somewhere (measured 88% for 0.01 at r 64, 26% for 0.1 at r 4); the
+  // fitted one bounds the worst case (22%, at r 16: 4 bands cannot hold a sharp lobe's log).
+  EXPECT_LT(worst[2], 0.25f);
+  EXPECT_LT(worst[2], worst[0]);
+  EXPECT_LT(worst[2], worst[1]);
   BlockerSettings s;
   s.phong_exponent = 4;
   BlockerAccumulation<N> acc(s);

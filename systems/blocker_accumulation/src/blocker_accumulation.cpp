@@ -113,14 +113,45 @@ sh::Zonal<N> BlockerAccumulation<N>::phong_zh(float exponent) {
 }
 
 template <int N>
+float BlockerAccumulation<N>::fitted_phong_epsilon(float exponent) {
+  const sh::Coeffs<N> lobe = sh::zonal_to_sh<N>(phong_zh(exponent));
+  float best = 0.01f, best_err = std::numeric_limits<float>::infinity();
+  for (int i = 0; i <= 64; ++i) {
+    const float eps = 0.001f * std::pow(500.0f, i / 64.0f);  // 0.001 .. 0.5
+    const sh::Coeffs<N> e = sh::exp_hyb<N>(sh::zonal_to_sh<N>(log_phong_zh(exponent, eps)));
+    float err = 0;  // L2 over the sphere = over the coefficients
+    for (int k = 0; k < N * N; ++k) err += (e[k] - lobe[k]) * (e[k] - lobe[k]);
+    if (err < best_err) {
+      best_err = err;
+      best = eps;
+    }
+  }
+  return best;
+}
+
+template <int N>
+PhongLobe<N> BlockerAccumulation<N>::phong_lobe(float exponent, float epsilon) {
+  if (!(exponent > 0 && std::isfinite(exponent)))
+    throw std::invalid_argument("Phong exponent " + std::to_string(exponent) + " must be > 0");
+  if (!(epsilon >= 0 && epsilon < 1))
+    throw std::invalid_argument("Phong epsilon " + std::to_string(epsilon) +
+                                " must be in [0, 1) (0: fitted)");
+  PhongLobe<N> lobe;
+  lobe.exponent = exponent;
+  lobe.epsilon = epsilon > 0 ? epsilon : fitted_phong_epsilon(exponent);
+  lobe.log_zh = log_phong_zh(exponent, lobe.epsilon);
+  return lobe;
+}
+
+template <int N>
 BlockerAccumulation<N>::BlockerAccumulation(const BlockerSettings& settings)
     : settings_(settings),
       log_eps_(std::log(settings.blocker.epsilon)),
       clamped_cosine_(sh::zh_clamped_cosine<N>()),
       log_diffuse_(log_diffuse_zh(settings.brdf_epsilon)),
-      log_phong_(settings.phong_exponent > 0
-                     ? log_phong_zh(settings.phong_exponent, settings.brdf_epsilon)
-                     : sh::Zonal<N>{}),
+      phong_(settings.phong_exponent > 0
+                 ? phong_lobe(settings.phong_exponent, settings.phong_epsilon)
+                 : PhongLobe<N>{}),
       cut_sin_(std::sin(80.0f / N * std::numbers::pi_v<float> / 180.0f)) {  // [Ren06] sec. 5
   const float eps = settings.blocker.epsilon;
   if (!(eps > 0 && eps < 1))
@@ -302,9 +333,19 @@ glm::vec3 BlockerAccumulation<N>::glossy_radiance(const sh::CoeffsRgb<N>& radian
                                                   const glm::vec3& view) const {
   if (!(settings_.phong_exponent > 0))
     throw std::logic_error("glossy_radiance needs BlockerSettings::phong_exponent > 0");
+  return glossy_radiance(radiance, p, n, view, phong_);
+}
+
+template <int N>
+glm::vec3 BlockerAccumulation<N>::glossy_radiance(const sh::CoeffsRgb<N>& radiance,
+                                                  const glm::vec3& p, const glm::vec3& n,
+                                                  const glm::vec3& view, const PhongLobe<N>& phong,
+                                                  const sh::Coeffs<N>* extra_log) const {
   const glm::vec3 r = 2 * glm::dot(n, view) * n - view;  // the reflected view direction
   sh::Coeffs<N> sum = log_visibility(p, n);
-  const sh::Coeffs<N> lobe = sh::rotate_zh<N>(log_phong_, glm::normalize(r));
+  if (extra_log)
+    for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += (*extra_log)[i];
+  const sh::Coeffs<N> lobe = sh::rotate_zh<N>(phong.log_zh, glm::normalize(r));
   for (std::size_t i = 0; i < sum.size(); ++i) sum[i] += lobe[i];
   // [Giraud] sec. 5: one exponential, then a dot with the lighting. Not exp_visibility: the lobe
   // peaks at (r + 1) / 2 pi, above the [0, 1] its clamp assumes.

@@ -69,6 +69,15 @@ struct LightSource {
   glm::vec3 radiance{0.0f};
 };
 
+// A Phong lobe in log-SH ([Giraud] eq. 27): its exponent r, the floor eps of its log, and the
+// canonical log-ZH about +z (rotated to the reflected view direction when shading).
+template <int N>
+struct PhongLobe {
+  float exponent = 0;
+  float epsilon = 0;
+  sh::Zonal<N> log_zh{};
+};
+
 struct BlockerSettings {
   SphereBlockerSettings blocker;
   BlockerShading shading = BlockerShading::kProduct;
@@ -77,6 +86,8 @@ struct BlockerSettings {
   float brdf_epsilon = 0.01f;
   // Phong exponent of glossy_radiance's lobe ([Giraud] eq. 27's r); 0: no glossy shading.
   float phong_exponent = 0;
+  // The floor of that lobe's log; 0: fitted to the exponent (fitted_phong_epsilon).
+  float phong_epsilon = 0;
   BlockerHierarchy hierarchy = BlockerHierarchy::kObjects;
   bool operator==(const BlockerSettings&) const = default;
 };
@@ -131,6 +142,20 @@ class BlockerAccumulation {
   // eq. 27). Throws std::logic_error when phong_exponent is 0.
   glm::vec3 glossy_radiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
                             const glm::vec3& n, const glm::vec3& view) const;
+  // The same with a given lobe (one per material: phong_lobe) and, when given, more log-SH
+  // visibility in the sum (the terrain's cast shadow, as for irradiance()).
+  glm::vec3 glossy_radiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
+                            const glm::vec3& n, const glm::vec3& view, const PhongLobe<N>& lobe,
+                            const sh::Coeffs<N>* extra_log = nullptr) const;
+
+  // The log-SH lobe of `exponent` (> 0, else std::invalid_argument) with floor `epsilon`;
+  // epsilon 0: fitted_phong_epsilon(exponent). Costs a few milliseconds: build once per material.
+  static PhongLobe<N> phong_lobe(float exponent, float epsilon = 0);
+  // The floor for a Phong exponent: of 65 values over [0.001, 0.5] (log scale), the one whose
+  // exponentiated log-ZH (exp_hyb) is closest, in L2 over the sphere, to the lobe's own ZH. No
+  // single eps serves every exponent ([Giraud] fig. 6): broad lobes want a deep floor, sharp
+  // ones a high one (docs/blocker_accumulation.md).
+  static float fitted_phong_epsilon(float exponent);
 
   // Canonical log-ZH of max(cos theta / pi, eps) ([Giraud] sec. 5), by quadrature.
   static sh::Zonal<N> log_diffuse_zh(float epsilon);
@@ -161,7 +186,7 @@ class BlockerAccumulation {
   std::shared_ptr<const ClippedLogCap<N>> clipped_log_;  // BlockerLog::kClippedEigen
   sh::Zonal<N> clamped_cosine_;
   sh::Zonal<N> log_diffuse_;  // of max(cos / pi, brdf_epsilon)
-  sh::Zonal<N> log_phong_;    // of the Phong lobe (phong_exponent > 0)
+  PhongLobe<N> phong_;        // settings' lobe (phong_exponent > 0)
   std::vector<WorldSphere> spheres_;
   std::vector<LightSource> lights_;
   std::vector<BlockerGroup> groups_;
