@@ -1,0 +1,391 @@
+#include "penumbra/systems/blocker_accumulation/receiver_clusters.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include "penumbra/sh/exp_log.h"
+#include "penumbra/sh/product.h"
+#include "penumbra/sh/rotation.h"
+
+namespace penumbra::blocker_accumulation {
+namespace {
+
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+std::string str(const glm::vec3& v) {
+  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+}
+
+ReceiverClusterCounts& operator+=(ReceiverClusterCounts& a, const ReceiverClusterCounts& b) {
+  a.clusters += b.clusters;
+  a.receivers += b.receivers;
+  a.receiver_views += b.receiver_views;
+  a.receiver_adds += b.receiver_adds;
+  a.centre_views += b.centre_views;
+  a.centre_adds += b.centre_adds;
+  a.far_groups += b.far_groups;
+  a.near_groups += b.near_groups;
+  a.near_by_plane += b.near_by_plane;
+  a.shared_receivers += b.shared_receivers;
+  a.depth_evaluations += b.depth_evaluations;
+  return a;
+}
+
+constexpr int kMaxFarAxes = 64;
+
+}  // namespace
+
+template <int N>
+ReceiverClusters<N>::ReceiverClusters(const ReceiverClusterSettings& settings)
+    : settings_(settings) {
+  if (settings.max_receivers == 0)
+    throw std::invalid_argument("receiver clusters: max_receivers must be at least 1");
+  if (!(settings.far_sin >= 0 && settings.far_sin < 1) || !(settings.far_error >= 0))
+    throw std::invalid_argument("receiver clusters: far_sin must be in [0, 1), far_error >= 0");
+}
+
+template <int N>
+void ReceiverClusters<N>::set_receivers(std::span<const glm::vec3> points,
+                                        std::span<const glm::vec3> normals) {
+  if (points.empty()) throw std::invalid_argument("receiver clusters: no receivers");
+  if (normals.size() != points.size())
+    throw std::invalid_argument("receiver clusters: " + std::to_string(points.size()) +
+                                " points but " + std::to_string(normals.size()) + " normals");
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (!finite(points[i]) || !finite(normals[i]))
+      throw std::invalid_argument("receiver " + std::to_string(i) + ": point " + str(points[i]) +
+                                  " or normal " + str(normals[i]) + " is not finite");
+  std::vector<std::uint32_t> order(points.size());
+  for (std::uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::vector<Cluster> clusters;
+  // kd split: the median along the widest of the point and (scaled) normal extents.
+  const auto split = [&](auto&& self, std::uint32_t b, std::uint32_t e) -> void {
+    glm::vec3 plo(std::numeric_limits<float>::max()), phi(-std::numeric_limits<float>::max());
+    glm::vec3 nlo = plo, nhi = phi;
+    for (std::uint32_t k = b; k < e; ++k) {
+      plo = glm::min(plo, points[order[k]]);
+      phi = glm::max(phi, points[order[k]]);
+      nlo = glm::min(nlo, normals[order[k]]);
+      nhi = glm::max(nhi, normals[order[k]]);
+    }
+    if (e - b <= settings_.max_receivers) {
+      Cluster c;
+      c.first = b;
+      c.count = e - b;
+      c.centre = 0.5f * (plo + phi);
+      glm::vec3 mean(0.0f);
+      for (std::uint32_t k = b; k < e; ++k) {
+        c.radius = std::max(c.radius, glm::length(points[order[k]] - c.centre));
+        mean += normals[order[k]];
+      }
+      const float len = glm::length(mean);
+      c.cos_cone = -1;  // no usable mean: any normal
+      if (len > 1e-6f * static_cast<float>(e - b)) {
+        c.normal = mean / len;
+        c.cos_cone = 1;
+        for (std::uint32_t k = b; k < e; ++k)
+          c.cos_cone = std::min(c.cos_cone, glm::dot(normals[order[k]], c.normal));
+      }
+      c.h_min = std::numeric_limits<float>::max();
+      c.h_max = -std::numeric_limits<float>::max();
+      for (std::uint32_t k = b; k < e; ++k) {
+        const float h = glm::dot(normals[order[k]], points[order[k]] - c.centre);
+        c.h_min = std::min(c.h_min, h);
+        c.h_max = std::max(c.h_max, h);
+      }
+      clusters.push_back(c);
+      return;
+    }
+    const glm::vec3 pe = phi - plo;
+    const float scale = 0.5f * std::max({pe.x, pe.y, pe.z});
+    const glm::vec3 ne = (nhi - nlo) * scale;
+    int axis = 0;
+    float widest = -1;
+    for (int a = 0; a < 6; ++a) {
+      const float w = a < 3 ? pe[a] : ne[a - 3];
+      if (w > widest) widest = w, axis = a;
+    }
+    const auto key = [&](std::uint32_t i) {
+      return axis < 3 ? points[i][axis] : normals[i][axis - 3];
+    };
+    const std::uint32_t mid = b + (e - b) / 2;
+    std::nth_element(order.begin() + b, order.begin() + mid, order.begin() + e,
+                     [&](std::uint32_t x, std::uint32_t y) { return key(x) < key(y); });
+    self(self, b, mid);
+    self(self, mid, e);
+  };
+  split(split, 0, static_cast<std::uint32_t>(order.size()));
+  points_.resize(order.size());
+  normals_.resize(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    points_[k] = points[order[k]];
+    normals_[k] = normals[order[k]];
+  }
+  order_ = std::move(order);
+  clusters_ = std::move(clusters);
+}
+
+template <int N>
+void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::CoeffsRgb<N>& radiance,
+                                std::span<glm::vec3> irradiance,
+                                std::span<sh::Coeffs<N>> visibility,
+                                ReceiverClusterCounts* counts) const {
+  if (irradiance.size() != points_.size() ||
+      (!visibility.empty() && visibility.size() != points_.size()))
+    throw std::invalid_argument("receiver clusters shade: " + std::to_string(points_.size()) +
+                                " receivers but outputs of " + std::to_string(irradiance.size()) +
+                                " and " + std::to_string(visibility.size()));
+  const BlockerSettings& set = acc.settings_;
+  const float log_eps = acc.log_eps_, cut_sin = acc.cut_sin_;
+  const float min_sin = set.blocker.min_sin, max_depth = set.blocker.max_depth;
+  const bool cut = set.hierarchy == BlockerHierarchy::kObjects;
+  const bool product_path = set.shading == BlockerShading::kProduct && acc.lights_.empty();
+  SphereBlockerSettings unfaded = set.blocker;  // the ratio's views: geometry only
+  unfaded.min_sin = 0;
+  tbb::combinable<ReceiverClusterCounts> tally;
+
+  const auto shade_cluster = [&](const Cluster& cl, ReceiverClusterCounts& cnt) {
+    struct Near {
+      std::uint32_t group;
+      bool has_ratio;
+      std::array<float, N> ratio;  // per band, the bound's scale ([Guerrero08] eq. 25)
+    };
+    std::vector<Near> near;
+    sh::Coeffs<N> far{};
+    std::array<sh::Coeffs<N>, 3> far_gradient{};  // d far / d x, y, z (far_gradient setting)
+    std::vector<std::uint32_t> far_spheres;
+    float far_weight = 0;
+    int far_axes = 0;
+    std::array<float, kMaxFarAxes * N * N> far_basis;  // y_i at each far group's axis
+    const float alpha = std::acos(std::clamp(cl.cos_cone, -1.0f, 1.0f));
+    // The view of sphere s from the centre with the plane rule neutral (normal towards s: the
+    // sphere is then wholly above the plane, weight 1), as at every receiver of a far group.
+    const auto centre_view = [&](const WorldSphere& s, const SphereBlockerSettings& bs) {
+      const glm::vec3 to = s.centre - cl.centre;
+      const float d = glm::length(to);
+      ++cnt.centre_views;
+      return view_blocker(cl.centre, d > 0 ? to / d : glm::vec3(0, 0, 1), s.centre, s.radius, bs);
+    };
+    for (std::uint32_t gi = 0; gi < acc.groups_.size(); ++gi) {
+      const BlockerGroup& g = acc.groups_[gi];
+      const float r = g.bound.radius;
+      if (!(r > 0)) continue;
+      const glm::vec3 to = g.bound.centre - cl.centre;
+      const float d = glm::length(to);
+      if (min_sin > 0 && d - cl.radius > influence_radius(r, min_sin)) continue;  // out of reach
+      // Bounds on n_i . (c - p_i) = n_i . (c - x_C) - n_i . (p_i - x_C) over the cluster.
+      const float beta =
+          d > 0 ? std::acos(std::clamp(glm::dot(to, cl.normal) / d, -1.0f, 1.0f)) : 0;
+      const float lo = d * std::cos(std::min(std::numbers::pi_v<float>, beta + alpha)) - cl.h_max;
+      const float hi = d * std::cos(std::max(0.0f, beta - alpha)) - cl.h_min;
+      if (hi + r <= 0) continue;  // below every receiver's tangent plane: culled everywhere
+      const bool above = lo >= r;
+      const float gap = d - cl.radius;  // nearest receiver to the bound's centre, at least
+      const float s_max = gap > r ? r / gap : 1.0f;
+      const bool small =
+          s_max < settings_.far_sin && s_max * s_max * cl.radius < settings_.far_error * gap;
+      if (small && above) {
+        // [Ren06] / [Guerrero08] sec. 7.3: far from the whole cluster, summed once at x_C.
+        ++cnt.far_groups;
+        float w = 0;
+        glm::vec3 axis = to / d;
+        for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
+          const BlockerView v = centre_view(acc.spheres_[k], set.blocker);
+          if (!(v.weight > 0)) continue;
+          add_log_visibility<N>(v, log_eps, far);
+          ++cnt.centre_adds;
+          far_spheres.push_back(k);
+          w += v.weight;
+          if (g.count == 1) axis = v.axis;
+        }
+        if (w > 0) {
+          far_weight += w;
+          if (far_axes < kMaxFarAxes)
+            sh::eval_basis<N>(axis, far_basis.data() + N * N * far_axes++);
+        }
+        continue;
+      }
+      ++cnt.near_groups;
+      if (small) ++cnt.near_by_plane;
+      Near e{gi, false, {}};
+      if (settings_.band_ratio && cut && g.count > 1 && d > r) {
+        // Per band, the scale that best maps the bound's log-SH onto its spheres' at x_C.
+        sh::Coeffs<N> bound{}, children{};
+        add_log_visibility<N>(centre_view(g.bound, unfaded), log_eps, bound);
+        for (std::uint32_t k = g.first; k < g.first + g.count; ++k)
+          add_log_visibility<N>(centre_view(acc.spheres_[k], unfaded), log_eps, children);
+        e.has_ratio = true;
+        for (int l = 0; l < N; ++l) {
+          double bb = 0, cb = 0;
+          for (int m = -l; m <= l; ++m) {
+            bb += double(bound[sh::index(l, m)]) * bound[sh::index(l, m)];
+            cb += double(children[sh::index(l, m)]) * bound[sh::index(l, m)];
+          }
+          e.ratio[l] =
+              bb > 1e-12 ? std::clamp(static_cast<float>(cb / bb), 0.0f, 4.0f) : g.coverage;
+        }
+      }
+      near.push_back(e);
+    }
+    const bool gradient = settings_.far_gradient && !far_spheres.empty() && cl.radius > 0;
+    if (gradient) {
+      // First-order parallax: forward differences of the far sum over half the cluster's radius.
+      const float h = 0.5f * cl.radius;
+      for (int a = 0; a < 3; ++a) {
+        glm::vec3 x = cl.centre;
+        x[a] += h;
+        sh::Coeffs<N> at{};
+        for (const std::uint32_t k : far_spheres) {
+          const WorldSphere& sp = acc.spheres_[k];
+          ++cnt.centre_views;
+          add_log_visibility<N>(
+              view_blocker(x, glm::normalize(sp.centre - x), sp.centre, sp.radius, set.blocker),
+              log_eps, at);
+        }
+        for (int i = 0; i < N * N; ++i) far_gradient[a][i] = (at[i] - far[i]) / h;
+      }
+    }
+    // Deepest the far sum reaches at its own axes (in log eps): a receiver whose near weight
+    // cannot take that past max_depth skips evaluating its sum there.
+    float far_deepest = 0;
+    for (int k = 0; k < far_axes; ++k) {
+      const float* y = far_basis.data() + N * N * k;
+      float v = 0;
+      for (int i = 0; i < N * N; ++i) v += far[i] * y[i];
+      far_deepest = std::max(far_deepest, v / log_eps);
+    }
+    // The depth limit of BlockerAccumulation::log_visibility over the far axes and `axes`.
+    const auto depth_limit = [&](sh::Coeffs<N>& sum, float weight, const glm::vec3* axes, int count,
+                                 float near_weight) {
+      if (!(max_depth > 0) || weight <= max_depth) return;
+      float deepest = 0;
+      const bool far_too = far_deepest + near_weight > max_depth;
+      for (int k = 0; far_too && k < far_axes; ++k) {
+        const float* y = far_basis.data() + N * N * k;
+        float v = 0;
+        for (int i = 0; i < N * N; ++i) v += sum[i] * y[i];
+        deepest = std::max(deepest, v / log_eps);
+      }
+      for (int k = 0; k < count; ++k)
+        deepest = std::max(deepest, sh::evaluate<N>(sum, axes[k]) / log_eps);
+      cnt.depth_evaluations += static_cast<std::size_t>((far_too ? far_axes : 0) + count);
+      if (deepest > max_depth) {
+        const float scale = max_depth / deepest;
+        for (float& x : sum) x *= scale;
+      }
+    };
+    // The cluster's shared result (receivers with no near blocker).
+    sh::Coeffs<N> far_limited = far;
+    depth_limit(far_limited, far_weight, nullptr, 0, far_deepest + max_depth);
+    sh::Coeffs<N> far_visibility{};
+    sh::CoeffsRgb<N> far_lit{};  // exp(far) * L per channel: E = far_lit . cosine lobe
+    if (product_path) {
+      far_visibility = sh::exp_visibility<N>(far_limited);
+      for (int c = 0; c < 3; ++c) far_lit[c] = sh::product<N>(far_visibility, radiance[c]);
+    }
+    cnt.clusters += 1;
+    cnt.receivers += cl.count;
+
+    constexpr int kMaxAxes = 64;
+    for (std::uint32_t k = cl.first; k < cl.first + cl.count; ++k) {
+      const glm::vec3& p = points_[k];
+      const glm::vec3& n = normals_[k];
+      sh::Coeffs<N> sum{};
+      float weight = 0;
+      glm::vec3 axes[kMaxAxes];
+      int axis_count = 0;
+      std::size_t adds = 0;
+      const auto add = [&](const WorldSphere& s, float scale, const std::array<float, N>* ratio) {
+        BlockerView v = view_blocker(p, n, s.centre, s.radius, set.blocker);
+        ++cnt.receiver_views;
+        v.weight *= scale;
+        if (!(v.weight > 0)) return;
+        if (ratio) {
+          sh::Coeffs<N> one{};
+          add_log_visibility<N>(v, log_eps, one);
+          for (int l = 0; l < N; ++l)
+            for (int m = -l; m <= l; ++m)
+              sum[sh::index(l, m)] += (*ratio)[l] * one[sh::index(l, m)];
+          v.weight *= (*ratio)[0];
+        } else {
+          add_log_visibility<N>(v, log_eps, sum);
+        }
+        ++adds;
+        weight += v.weight;
+        if (axis_count < kMaxAxes) axes[axis_count++] = v.axis;
+      };
+      for (const Near& e : near) {  // as BlockerAccumulation::accumulate
+        const BlockerGroup& g = acc.groups_[e.group];
+        if (g.count == 1) {
+          add(acc.spheres_[g.first], 1.0f, nullptr);
+          continue;
+        }
+        const float d = glm::length(g.bound.centre - p);
+        const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
+        const float a = cut ? std::clamp((s - cut_sin) / (0.25f * cut_sin), 0.0f, 1.0f) : 1.0f;
+        if (a < 1) {
+          if (e.has_ratio)
+            add(g.bound, 1 - a, &e.ratio);
+          else
+            add(g.bound, g.coverage * (1 - a), nullptr);
+        }
+        if (a > 0)
+          for (std::uint32_t i = g.first; i < g.first + g.count; ++i)
+            add(acc.spheres_[i], a, nullptr);
+      }
+      cnt.receiver_adds += adds;
+      const std::uint32_t out = order_[k];
+      sh::Coeffs<N>* vis = visibility.empty() ? nullptr : &visibility[out];
+      if (adds == 0 && !gradient) {
+        ++cnt.shared_receivers;
+        if (product_path) {
+          const sh::Coeffs<N> lobe = sh::rotate_zh<N>(acc.clamped_cosine_, n);
+          irradiance[out] = glm::vec3(sh::dot<N>(far_lit[0], lobe), sh::dot<N>(far_lit[1], lobe),
+                                      sh::dot<N>(far_lit[2], lobe));
+          if (vis) *vis = far_visibility;
+        } else {
+          irradiance[out] = acc.irradiance_from_log(radiance, p, n, far_limited, vis);
+        }
+        continue;
+      }
+      for (int i = 0; i < N * N; ++i) sum[i] += far[i];
+      if (gradient) {
+        const glm::vec3 dp = p - cl.centre;
+        for (int i = 0; i < N * N; ++i)
+          sum[i] +=
+              far_gradient[0][i] * dp.x + far_gradient[1][i] * dp.y + far_gradient[2][i] * dp.z;
+      }
+      depth_limit(sum, weight + far_weight, axes, axis_count, weight);
+      irradiance[out] = acc.irradiance_from_log(radiance, p, n, sum, vis);
+    }
+  };
+
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, clusters_.size(), 1),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      ReceiverClusterCounts& cnt = tally.local();
+                      for (std::size_t c = range.begin(); c != range.end(); ++c)
+                        shade_cluster(clusters_[c], cnt);
+                    });
+  if (counts) tally.combine_each([&](const ReceiverClusterCounts& c) { *counts += c; });
+}
+
+template class ReceiverClusters<3>;
+template class ReceiverClusters<4>;
+template class ReceiverClusters<5>;
+template class ReceiverClusters<6>;
+
+}  // namespace penumbra::blocker_accumulation
