@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -52,8 +53,15 @@ data::EnvironmentMap uniform_sky() {
   return m;
 }
 
+// The HDR map: sky.exr (a clear sky with its sun), or the file of ../shared/data/hdri that
+// PENUMBRA_ACCURACY_SKY names (forest.exr, dawn.exr: docs/blocker_accuracy.md).
+const char* hdr_name() {
+  const char* name = std::getenv("PENUMBRA_ACCURACY_SKY");
+  return name && *name ? name : "sky.exr";
+}
+
 data::EnvironmentMap sky_map() {
-  return assets::load_environment_map(kData / "hdri" / "sky.exr");
+  return assets::load_environment_map(kData / "hdri" / hdr_name());
 }
 
 struct Errors {
@@ -239,7 +247,7 @@ struct Sky {
 // Task 1: bunny and Suzanne, 8 / 16 / 32 / 64 spheres (variational, seed 1), uniform sky and
 // sky.exr, default settings (4 bands, eps 0.2, product shading, HYB, the object hierarchy).
 TEST(BlockerMeshAccuracy, FittedModelsOverAPlane) {
-  const Sky skies[] = {{"uniform", uniform_sky()}, {"sky.exr", sky_map()}};
+  const Sky skies[] = {{"uniform", uniform_sky()}, {hdr_name(), sky_map()}};
   std::printf(
       "| scene | method | vs spheres RMS | max | vs mesh RMS | max | spheres' ref vs mesh's"
       " ref RMS | max | unclamped HYB vs spheres RMS | max |\n");
@@ -287,7 +295,7 @@ TEST(BlockerMeshAccuracy, FittedModelsOverAPlane) {
 TEST(BlockerMeshAccuracy, MethodsOnTheBunnyWith32Spheres) {
   const ModelScene m = load_model("bunny.glb");
   const std::vector<WorldSphere> spheres = fit(m.mesh, 32);
-  const Sky skies[] = {{"uniform", uniform_sky()}, {"sky.exr", sky_map()}};
+  const Sky skies[] = {{"uniform", uniform_sky()}, {hdr_name(), sky_map()}};
   for (const Sky& sky : skies) {
     const References ref = model_references(m, sky.map);
     const std::vector<float> ref_spheres = sphere_reference(spheres, sky.map, m.receivers);
@@ -429,7 +437,7 @@ TEST(BlockerMeshAccuracy, FourHundredBlockersOverTheElevationModel) {
       texel.push_back(i);
     }
 
-  const Sky skies[] = {{"uniform", uniform_sky()}, {"sky.exr", sky_map()}};
+  const Sky skies[] = {{"uniform", uniform_sky()}, {hdr_name(), sky_map()}};
   for (const Sky& sky : skies) {
     reference::SceneDesc desc;
     desc.environment = reference::EnvironmentLight{sky.map, 0.0f};
