@@ -211,7 +211,7 @@ std::vector<float> ours_with_exp(const std::vector<WorldSphere>& spheres,
   return out;
 }
 
-// No logarithm ([Ren06]'s baseline): the SH product of every sphere's own visibility 1 - w cap
+// No logarithm: the SH product of every sphere's own visibility 1 - w cap
 // (w the plane rule's weight), each product truncated to 4 bands; every sphere at every receiver.
 std::vector<float> ours_product_of_visibilities(const std::vector<WorldSphere>& spheres,
                                                 const data::EnvironmentMap& sky,
