@@ -16,6 +16,7 @@
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/material.h"
 #include "penumbra/components/mesh.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
@@ -194,10 +195,9 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
     b.radius = config.radius * (0.8f + 0.4f * static_cast<float>(i % 3) / 2.0f);
     b.scale = b.radius / m.radius;
     b.model_centre = m.centre;
-    const glm::vec4 colour =
-        i % 2 ? glm::vec4(0.62f, 0.55f, 0.45f, 1) : glm::vec4(0.5f, 0.5f, 0.52f, 1);
+    const glm::vec3 albedo = i % 2 ? glm::vec3(0.62f, 0.55f, 0.45f) : glm::vec3(0.5f, 0.5f, 0.52f);
     world.create_with(b, Transform{}, components::MeshInstance{m.mesh},
-                      components::BaseColor{colour}, components::SphereSet{m.spheres},
+                      components::Material{albedo, 0.0f}, components::SphereSet{m.spheres},
                       components::Receiver{m.points, m.normals}, components::ReceiverLighting{},
                       components::VertexLighting{}, components::DebugLines{});
   }

@@ -8,8 +8,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "penumbra/components/camera.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/material.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/sphere_set.h"
@@ -72,6 +74,42 @@ TEST(BlockerSystems, BlockerShadowsTheGroundUnderItAndFollowsItsTransform) {
   s.executor.run(s.schedule, s.world);
   EXPECT_NEAR(s.at(0, 0).x, pi, 0.05f * pi);
   EXPECT_LT(s.at(8, 8).x, 0.7f * pi);
+}
+
+// A Material makes the outgoing radiance: albedo E / pi when Lambertian; with a Phong exponent,
+// the albedo times the shadowed lobe towards the camera, which moves with the camera.
+TEST(BlockerSystems, MaterialShadesDiffuseOrGlossyTowardsTheCamera) {
+  Scene s;
+  s.world.add(s.ground, components::Material{{0.5f, 0.25f, 0.1f}, 0.0f});
+  s.executor.run(s.schedule, s.world);
+  const ReceiverLighting* l = s.world.get<ReceiverLighting>(s.ground);
+  ASSERT_NE(l->radiance, nullptr);
+  const std::size_t corner = 440;  // (10, 10): open sky
+  const glm::vec3 e = (*l->irradiance)[corner];
+  const glm::vec3 expected = glm::vec3(0.5f, 0.25f, 0.1f) * e * std::numbers::inv_pi_v<float>;
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR((*l->radiance)[corner][c], expected[c], 1e-5f);
+
+  // Glossy under a sky brighter towards +x: the reflection is brighter seen from -x.
+  auto& env = s.world.resource<components::EnvironmentLight>();
+  for (int c = 0; c < 3; ++c) env.radiance[c][sh::index(1, 1)] = 1.5f;
+  s.world.get_mut<components::Material>(s.ground)->phong_exponent = 8;
+  auto& camera = s.world.emplace_resource<components::Camera>();
+  camera.position = {-30, 10, 20};  // sees the corner's reflection towards +x
+  s.executor.run(s.schedule, s.world);
+  const float towards_bright = (*s.world.get<ReceiverLighting>(s.ground)->radiance)[corner].x;
+  camera.position = {50, 10, 20};
+  s.executor.run(s.schedule, s.world);
+  const float towards_dark = (*s.world.get<ReceiverLighting>(s.ground)->radiance)[corner].x;
+  EXPECT_GT(towards_bright, 1.3f * towards_dark);
+  EXPECT_EQ(s.world.resource<BlockerField>().lobes.size(), 1u);  // one lobe per exponent
+
+  s.world.get_mut<components::Material>(s.ground)->phong_exponent = -1;  // named, Lambertian
+  s.executor.run(s.schedule, s.world);
+  ASSERT_EQ(s.world.resource<BlockerField>().errors.size(), 1u);
+  EXPECT_NE(s.world.resource<BlockerField>().errors[0].find("Material"), std::string::npos);
+  const ReceiverLighting* after = s.world.get<ReceiverLighting>(s.ground);
+  EXPECT_NEAR((*after->radiance)[corner].x,
+              (*after->irradiance)[corner].x * std::numbers::inv_pi_v<float>, 1e-5f);
 }
 
 // With a refresh period of 4 a receiving entity is re-shaded once in every 4 frames: a moved
@@ -146,9 +184,9 @@ TEST(BlockerSystems, BlockerShadowsTheTerrainAndTheBaseReturns) {
   // ([Giraud] sec. 4.1 cast shadow); what the renderer shows is its VertexLighting.
   auto point = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(0, 0, 0));
   auto side = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(1, 0, 0));
-  const ecs::Entity post = world.create_with(
-      Receiver{point, side}, Transform{glm::translate(glm::mat4(1), {10, 10, 1})},
-      ReceiverLighting{}, components::VertexLighting{});
+  const ecs::Entity post =
+      world.create_with(Receiver{point, side}, Transform{glm::translate(glm::mat4(1), {10, 10, 1})},
+                        ReceiverLighting{}, components::VertexLighting{});
   terrain_shadow::add_terrain_shadow_systems(schedule);
   add_blocker_systems(schedule);
   const auto texel = [&](int x, int y) {

@@ -14,8 +14,10 @@
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
 
+#include "penumbra/components/camera.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/material.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/sphere_set.h"
@@ -134,6 +136,7 @@ void shade(ecs::World& w) {
   if (!field.accumulation) return;
   const BlockerAccumulation<N>& acc = *field.accumulation;
   const sh::CoeffsRgb<N> radiance = environment_radiance(w);
+  const components::Camera* camera = w.try_resource<const components::Camera>();
   field.receivers = 0;
   const components::Terrain* terrain = nullptr;
   w.query<const components::Terrain>().each([&](const components::Terrain& t) {
@@ -185,41 +188,61 @@ void shade(ecs::World& w) {
       }
       const std::size_t n = r.points->size();
       const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(t.world)));
+      const components::Material* material = w.get<components::Material>(e);
+      if (material && !(std::isfinite(material->phong_exponent) && material->phong_exponent >= 0 &&
+                        std::isfinite(material->albedo.x) && std::isfinite(material->albedo.y) &&
+                        std::isfinite(material->albedo.z))) {
+        field.errors.push_back(entity_name(e) +
+                               ": Material albedo or Phong exponent is not finite or the "
+                               "exponent is negative; shaded white and Lambertian");
+        material = nullptr;
+      }
+      const glm::vec3 albedo = material ? material->albedo : glm::vec3(1.0f);
+      const PhongLobe<N>* lobe = nullptr;  // [Giraud] eq. 27, one per exponent
+      if (material && material->phong_exponent > 0 && camera) {
+        auto [slot, added] = field.lobes.try_emplace(material->phong_exponent);
+        if (added) slot->second = BlockerAccumulation<N>::phong_lobe(material->phong_exponent);
+        lobe = &slot->second;
+      }
       auto visibility = std::make_shared<std::vector<ReceiverLighting::Visibility>>(n);
       auto irradiance = std::make_shared<std::vector<glm::vec3>>(n);
+      auto shown = std::make_shared<std::vector<glm::vec3>>(n);  // radiance per unit albedo
       std::mutex error_mutex;
       std::string error;
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 256),
-                        [&](const tbb::blocked_range<std::size_t>& range) {
-                          for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                            const glm::vec3 p =
-                                glm::vec3(t.world * glm::vec4((*r.points)[i], 1.0f));
-                            glm::vec3 nn = normal_matrix * (*r.normals)[i];
-                            const float len = glm::length(nn);
-                            if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
-                                !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                              std::lock_guard lock(error_mutex);
-                              error = entity_name(e) + ": receiver point " + std::to_string(i) +
-                                      " or its normal is not finite";
-                              return;
-                            }
-                            nn /= len;
-                            (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i],
-                                                              cast ? &*cast : nullptr);
-                          }
-                        });
+      tbb::parallel_for(
+          tbb::blocked_range<std::size_t>(0, n, 256),
+          [&](const tbb::blocked_range<std::size_t>& range) {
+            for (std::size_t i = range.begin(); i < range.end(); ++i) {
+              const glm::vec3 p = glm::vec3(t.world * glm::vec4((*r.points)[i], 1.0f));
+              glm::vec3 nn = normal_matrix * (*r.normals)[i];
+              const float len = glm::length(nn);
+              if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) || !std::isfinite(p.y) ||
+                  !std::isfinite(p.z)) {
+                std::lock_guard lock(error_mutex);
+                error = entity_name(e) + ": receiver point " + std::to_string(i) +
+                        " or its normal is not finite";
+                return;
+              }
+              nn /= len;
+              const sh::Coeffs<N>* extra = cast ? &*cast : nullptr;
+              (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i], extra);
+              (*shown)[i] =
+                  lobe ? acc.glossy_radiance(radiance, p, nn, glm::normalize(camera->position - p),
+                                             *lobe, extra)
+                       : (*irradiance)[i] * std::numbers::inv_pi_v<float>;
+            }
+          });
       if (!error.empty()) {
         field.errors.push_back(error + "; its lighting is left as it was");
         return;
       }
-      if (components::VertexLighting* shown = w.get_mut<components::VertexLighting>(e)) {
-        auto rgb = std::make_shared<std::vector<glm::vec3>>(n);
-        for (std::size_t i = 0; i < n; ++i)
-          (*rgb)[i] = (*irradiance)[i] * std::numbers::inv_pi_v<float>;
-        shown->rgb = std::move(rgb);
-      }
+      auto outgoing = std::make_shared<std::vector<glm::vec3>>(n);
+      for (std::size_t i = 0; i < n; ++i) (*outgoing)[i] = albedo * (*shown)[i];
+      if (components::VertexLighting* v = w.get_mut<components::VertexLighting>(e))
+        v->rgb = std::move(shown);
       out.visibility = std::move(visibility);
       out.irradiance = std::move(irradiance);
+      out.radiance = std::move(outgoing);
       field.receivers += n;
     }(it.e, *it.r, *it.t, *it.out);
   }
@@ -283,7 +306,8 @@ void add_blocker_systems(jobs::Schedule& schedule) {
       .reads<SphereSet, Transform, BlockerSettingsResource, components::SphericalLight>()
       .writes<BlockerField>();
   schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
-      .reads<Receiver, Transform, EnvironmentLight, components::Terrain, BlockerSettingsResource>()
+      .reads<Receiver, Transform, components::Material, components::Camera, EnvironmentLight,
+             components::Terrain, BlockerSettingsResource>()
       .writes<BlockerField, ReceiverLighting, components::VertexLighting>();
   schedule.add_task("blockers.terrain", shade_terrain)
       .reads<components::Terrain, terrain_shadow::TerrainHorizons, BlockerField, EnvironmentLight,

@@ -3,6 +3,7 @@
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/material.h"
 #include "penumbra/components/mesh.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
@@ -16,6 +17,7 @@ using components::DebugLines;
 using components::DebugPoint;
 using components::DebugPoints;
 using components::DebugSphere;
+using components::Material;
 using components::MeshInstance;
 using components::Terrain;
 using components::TerrainLighting;
@@ -35,7 +37,7 @@ void emplace_render_resources(ecs::World& world) {
 
 namespace {
 std::shared_ptr<const data::HeightField> scaled_heights(const Terrain& t,
-                                                          ScaledHeightsCache* cache) {
+                                                        ScaledHeightsCache* cache) {
   if (t.height_scale == 1.0f || !t.heights) return t.heights;
   if (cache && cache->source == t.heights && cache->scale == t.height_scale) return cache->scaled;
   auto f = std::make_shared<data::HeightField>(*t.heights);
@@ -77,7 +79,8 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
         d.mesh = m.mesh;
         d.transform = t.world;
         const BaseColor* c = world.get<BaseColor>(e);
-        d.albedo = c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
+        const Material* mat = world.get<Material>(e);
+        d.albedo = mat ? mat->albedo : c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
         if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
         packet.meshes.push_back(std::move(d));
       });
@@ -101,7 +104,7 @@ jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
                   extract_render_packet(w, w.resource<render::RenderPacket>(), cache.get());
                 })
       .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance, BaseColor,
-             VertexLighting, DebugSphere, DebugLines, DebugPoints>()
+             Material, VertexLighting, DebugSphere, DebugLines, DebugPoints>()
       .writes<render::RenderPacket>();
 }
 

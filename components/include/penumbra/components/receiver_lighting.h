@@ -1,5 +1,7 @@
 // What the blocker accumulation system computed for each point of an entity's Receiver:
-// visibility as SH (4 bands, 16 coefficients per point) and RGB irradiance (W/m^2, linear).
+// visibility as SH (4 bands, 16 coefficients per point), RGB irradiance (W/m^2, linear) and the
+// radiance leaving the point towards the camera (W/m^2/sr) by the entity's Material: albedo E / pi
+// for a Lambertian one, the albedo times the shadowed Phong lobe for a glossy one.
 // Published as shared immutable arrays, replaced rather than changed (as TerrainLighting).
 #pragma once
 
@@ -16,6 +18,7 @@ struct ReceiverLighting {
   using Visibility = std::array<float, kBands * kBands>;
   std::shared_ptr<const std::vector<Visibility>> visibility;  // one per receiver point
   std::shared_ptr<const std::vector<glm::vec3>> irradiance;   // one per receiver point
+  std::shared_ptr<const std::vector<glm::vec3>> radiance;     // one per receiver point
 };
 
 }  // namespace penumbra::components

@@ -7,15 +7,18 @@
 //       entity (its set's bound: the hierarchy's object level, blocker_accumulation.h), and
 //       the spherical lights, which receivers then see through the blockers. An entity
 //       whose spheres or transform are not finite is left out and named in BlockerField::errors.
-//   blockers.shade   reads Receiver, Transform, BlockerField, EnvironmentLight, Terrain; writes
-//       ReceiverLighting, VertexLighting. Per entity with all three: its points and normals to
-//       world space, then visibility and irradiance per point (tbb::parallel_for over blocks of
-//       points), published as new shared arrays (and as VertexLighting, irradiance / pi, when the
-//       entity has one: what the renderer shows). Receivers whose points are not finite are named
-//       in BlockerField::errors and keep their previous lighting. With a Terrain in the world, its
-//       cast shadow ([Giraud] sec. 4.1, log-SH wedges) joins the blockers' sum: evaluated once
-//       per entity, at its Transform's origin (an object small against the terrain's texels
-//       sees one horizon; per point it would cost ~10 us each).
+//   blockers.shade   reads Receiver, Transform, Material, Camera, BlockerField,
+//       EnvironmentLight, Terrain; writes ReceiverLighting, VertexLighting. Per entity with a
+//       Receiver, a Transform and a ReceiverLighting: its points and normals to world space,
+//       then visibility, irradiance and outgoing radiance per point (tbb::parallel_for over
+//       blocks of points), published as new shared arrays (and as VertexLighting, the radiance
+//       per unit albedo, when the entity has one: what the renderer shows). A Material with a
+//       Phong exponent shades glossy towards the Camera resource (one PhongLobe per exponent,
+//       kept in BlockerField); with no camera, Lambertian. Receivers whose points are not finite
+//       are named in BlockerField::errors and keep their previous lighting. With a Terrain in the
+//       world, its cast shadow ([Giraud] sec. 4.1, log-SH wedges) joins the blockers' sum:
+//       evaluated once per entity, at its Transform's origin (an object small against the terrain's
+//       texels sees one horizon; per point it would cost ~10 us each).
 //   blockers.terrain reads Terrain, TerrainHorizons, BlockerField, EnvironmentLight; writes
 //       TerrainLighting, BlockerTerrainState (adds it to a terrain, structural)
 //       The blockers' shadows on the terrain's texels (terrain_receivers.h): the terrain
@@ -28,6 +31,7 @@
 // sphere_blocker.h keeps a surface point from being darkened by the sphere it sits in).
 #pragma once
 
+#include <map>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -73,6 +77,7 @@ struct BlockerField {
   std::unordered_map<const void*, SetBound> bounds;  // per SphereSet array
   // The terrain's log-SH wedges for the cast shadow on receivers (built on first use).
   std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> cast_wedges;
+  std::map<float, PhongLobe<kSystemBands>> lobes;  // per Material Phong exponent
 };
 
 // Per terrain entity: what blockers.terrain keeps between frames.

@@ -4,7 +4,7 @@
 //   RenderSettings (resource; defaults when absent)  -> packet.sky, packet.view
 //   Terrain [+ TerrainLighting]                       -> packet.terrain (the first such entity;
 //                                                       heights x height_scale)
-//   Transform + MeshInstance [+ BaseColor, VertexLighting] -> packet.meshes
+//   Transform + MeshInstance [+ Material or BaseColor (albedo), VertexLighting] -> packet.meshes
 //   DebugSphere, DebugLines, DebugPoints              -> packet.spheres, lines, points
 // Large arrays are shared by pointer (no copies); the packet's lists keep their capacity from
 // frame to frame. It is the packet's only writer: whatever is to be drawn, debug geometry
