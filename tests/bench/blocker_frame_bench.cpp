@@ -8,7 +8,9 @@
 //                 centre, heights 2-10 m), one BlockerGroup each (bound + disc coverage,
 //                 computed as the system's gather does).
 // Methods: all_pairs (min_sin = 0: the grid lists every sphere everywhere; hierarchy off: the
-// same-run baseline), grid (default min_sin, hierarchy off), hierarchy (grid + kObjects).
+// same-run baseline), grid (default min_sin, hierarchy off), hierarchy (grid + kObjects),
+// clusters (ReceiverClusters, default settings, kObjects; receivers clustered once outside the
+// timed loop, shade() parallel over clusters).
 // Counters (computed outside the timed loop): view_blocker calls and log-SH additions per
 // receiver, counted by the library's own loop (log_visibility's PairCounts) at every
 // receiver; the counted operations of a frame (for the floor); and, at every 50th receiver
@@ -39,6 +41,7 @@
 #include "blocker_bench.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
+#include "penumbra/systems/blocker_accumulation/receiver_clusters.h"
 
 namespace {
 namespace pb = penumbra::bench;
@@ -75,12 +78,12 @@ Scene objects_scene() {
   return scene;
 }
 
-enum class Method { kAllPairs, kGrid, kHierarchy };
+enum class Method { kAllPairs, kGrid, kHierarchy, kClusters };
 
 ba::BlockerSettings settings_for(Method m) {
   ba::BlockerSettings s;
-  s.hierarchy =
-      m == Method::kHierarchy ? ba::BlockerHierarchy::kObjects : ba::BlockerHierarchy::kOff;
+  s.hierarchy = m == Method::kHierarchy || m == Method::kClusters ? ba::BlockerHierarchy::kObjects
+                                                                  : ba::BlockerHierarchy::kOff;
   if (m == Method::kAllPairs) s.blocker.min_sin = 0;
   return s;
 }
@@ -105,6 +108,16 @@ const Fixture& fixture() {
   return f;
 }
 
+// The receivers clustered once (default ReceiverClusterSettings: at most 256 per cluster).
+const ba::ReceiverClusters<N>& clusters() {
+  static const ba::ReceiverClusters<N> rc = [] {
+    ba::ReceiverClusters<N> x;
+    x.set_receivers(fixture().points, fixture().normals);
+    return x;
+  }();
+  return rc;
+}
+
 struct Analysis {
   double views = 0, added = 0;  // per receiver
   double flops = 0;             // per frame
@@ -120,10 +133,21 @@ Analysis analyse(const Scene& scene, Method m) {
   ba::BlockerAccumulation<N> acc(settings), all(settings_for(Method::kAllPairs));
   acc.set_blockers(scene.spheres, scene.groups);
   all.set_blockers(scene.spheres, scene.groups);
-  // What the library's own loop costs per receiver (log_visibility's PairCounts).
+  // What the library's own loop costs per receiver (log_visibility's PairCounts); for the
+  // clusters, their own counts (views and adds at receivers plus those at cluster centres).
   typename ba::BlockerAccumulation<N>::PairCounts counts;
-  for (std::size_t i = 0; i < f.points.size(); ++i)
-    acc.log_visibility(f.points[i], f.normals[i], &counts);
+  std::vector<glm::vec3> clustered;
+  if (m == Method::kClusters) {
+    ba::ReceiverClusterCounts cc;
+    clustered.resize(f.points.size());
+    clusters().shade(acc, f.sky, clustered, {}, &cc);
+    counts.views = cc.receiver_views + cc.centre_views;
+    counts.adds = cc.receiver_adds + cc.centre_adds;
+    counts.depth_evaluations = cc.depth_evaluations;
+  } else {
+    for (std::size_t i = 0; i < f.points.size(); ++i)
+      acc.log_visibility(f.points[i], f.normals[i], &counts);
+  }
   const double views = static_cast<double>(counts.views), added = static_cast<double>(counts.adds),
                depth_evals = static_cast<double>(counts.depth_evaluations);
   Analysis a;
@@ -138,7 +162,8 @@ Analysis analyse(const Scene& scene, Method m) {
     for (int c = 1; c < N * N; ++c) norm2 += double(lv[c]) * lv[c];
     if (std::sqrt(norm2) > sh::kHybOlNorm)
       k_sum += std::ceil(std::log2(std::sqrt(norm2) / sh::kHybOlNorm));
-    const double e = acc.irradiance(f.sky, f.points[i], f.normals[i]).y;
+    const double e = m == Method::kClusters ? clustered[i].y
+                                            : acc.irradiance(f.sky, f.points[i], f.normals[i]).y;
     const double ref = all.irradiance(f.sky, f.points[i], f.normals[i]).y;
     diff2 += (e - ref) * (e - ref);
     ref2 += ref * ref;
@@ -162,6 +187,12 @@ void BM_Frame(benchmark::State& state, std::string scene_name, Method m) {
   const std::span<glm::vec3> irradiance(out);
   for (auto _ : state) {
     acc.set_blockers(scene.spheres, scene.groups);
+    if (m == Method::kClusters) {  // parallel over clusters inside shade()
+      arena.execute([&] { clusters().shade(acc, f.sky, irradiance); });
+      benchmark::DoNotOptimize(out.data());
+      benchmark::ClobberMemory();
+      continue;
+    }
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kBlock),
                         [&](const tbb::blocked_range<std::size_t>& r) {
@@ -195,6 +226,8 @@ const char* method_name(Method m) {
       return "grid";
     case Method::kHierarchy:
       return "hierarchy";
+    case Method::kClusters:
+      return "clusters";
   }
   return "";
 }
@@ -211,7 +244,8 @@ constexpr FrameCase kCases[] = {
     {"scattered:50", Method::kAllPairs},  {"scattered:50", Method::kGrid},
     {"scattered:400", Method::kAllPairs}, {"scattered:400", Method::kGrid},
     {"objects:400", Method::kAllPairs},   {"objects:400", Method::kGrid},
-    {"objects:400", Method::kHierarchy},
+    {"objects:400", Method::kHierarchy},  {"scattered:50", Method::kClusters},
+    {"scattered:400", Method::kClusters}, {"objects:400", Method::kClusters},
 };
 
 std::string fmt(const char* f, double v) {
@@ -256,6 +290,15 @@ void summarize_frames(const Results& r, Summary& s, double ns_per_fma) {
     } else if (c.method == Method::kGrid) {
       add_row(s, name, "ms", ms(k), ms(key(c.scene, Method::kAllPairs)), pb::Goal::none(),
               floor_ms(k), "baseline: all pairs; " + pairs_note(k) + accuracy_note(k));
+    } else if (c.method == Method::kClusters) {
+      const bool objects = std::string(c.scene).starts_with("objects");
+      const Method base = objects ? Method::kHierarchy : Method::kGrid;
+      const auto vs_all = pb::quotient(ms(key(c.scene, Method::kAllPairs)), ms(k));
+      add_row(s, name, "ms", ms(k), ms(key(c.scene, base)), pb::Goal::none(), floor_ms(k),
+              std::string("baseline: ") + method_name(base) + " (per receiver); " +
+                  fmt("%.1fx", vs_all.value_or(NAN)) +
+                  " all pairs; receivers clustered once (at most 256 each); " + pairs_note(k) +
+                  " (cluster centres' share included)" + accuracy_note(k));
     } else {
       const auto vs_all = pb::quotient(ms(key(c.scene, Method::kAllPairs)), ms(k));
       add_row(s, name, "ms", ms(k), ms(key(c.scene, Method::kGrid)), pb::Goal::none(), floor_ms(k),
@@ -264,7 +307,9 @@ void summarize_frames(const Results& r, Summary& s, double ns_per_fma) {
     }
   }
   for (const FrameCase& g :
-       {FrameCase{"scattered:400", Method::kGrid}, FrameCase{"objects:400", Method::kHierarchy}}) {
+       {FrameCase{"scattered:400", Method::kGrid}, FrameCase{"objects:400", Method::kHierarchy},
+        FrameCase{"scattered:400", Method::kClusters},
+        FrameCase{"objects:400", Method::kClusters}}) {
     const std::string k = key(g.scene, g.method);
     const auto value = ms(k);
     const auto over = pb::quotient(value, kGoalMs);
