@@ -142,8 +142,10 @@ def emit_basis(n):
 def emit_product(n, g, square):
     count = n * n
     name = f"square_{n}" if square else f"product_{n}"
-    args = "const float* f, float* out" if square else "const float* f, const float* g, float* out"
-    lines = [f"inline void {name}({args}) {{"]
+    args = "const T* f, T* out" if square else "const T* f, const T* g, T* out"
+    # Templated on the lane type T, as the basis: float, or a GCC/Clang vector of floats for
+    # structure-of-arrays batches (sh/batch.h); constants enter only as scalar operands of *.
+    lines = ["template <class T>", f"inline void {name}({args}) {{"]
     # Factoring: every pair product f_j g_k + f_k g_j is formed once and feeds every output i
     # whose Gaunt coefficient with (j, k) is non-zero.
     acc = [[] for _ in range(count)]
@@ -160,12 +162,12 @@ def emit_product(n, g, square):
                 expr = f"f[{j}] * f[{j}]" if j == k else f"2.0f * f[{j}] * f[{k}]"
             else:
                 expr = f"f[{j}] * g[{j}]" if j == k else f"f[{j}] * g[{k}] + f[{k}] * g[{j}]"
-            pair_lines.append(f"  const float {t} = {expr};")
+            pair_lines.append(f"  const T {t} = {expr};")
             for i, c in used:
                 acc[i].append(f"{c!r}f * {t}")
     lines += pair_lines
     for i in range(count):
-        lines.append(f"  out[{i}] = " + (" + ".join(acc[i]) if acc[i] else "0.0f") + ";")
+        lines.append(f"  out[{i}] = " + (" + ".join(acc[i]) if acc[i] else "T{}") + ";")
     lines.append("}")
     return "\n".join(lines), nonzero
 

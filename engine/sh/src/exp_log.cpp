@@ -32,7 +32,8 @@ struct OlTable {
     constexpr int kGauss = 96, kShapes = 48;
     std::vector<double> z(kGauss), w(kGauss);
     {
-      const SphereQuadrature q = SphereQuadrature::gauss(kGauss, 1);  // nodes in z, weights 4 pi w/2
+      const SphereQuadrature q =
+          SphereQuadrature::gauss(kGauss, 1);  // nodes in z, weights 4 pi w/2
       for (int i = 0; i < kGauss; ++i) {
         z[i] = q.directions[i].z;
         w[i] = q.weights[i] / (2 * std::numbers::pi) * 2 * std::numbers::pi;  // = 2 pi * GL weight
@@ -42,7 +43,8 @@ struct OlTable {
     std::vector<std::array<double, N>> shape(kShapes);
     std::vector<std::vector<double>> value(kShapes, std::vector<double>(kGauss));
     for (int k = 0; k < kShapes; ++k) {
-      const double solid = 4 * std::numbers::pi * (k + 0.5) / kShapes * 0.5;  // caps up to a hemisphere
+      const double solid =
+          4 * std::numbers::pi * (k + 0.5) / kShapes * 0.5;  // caps up to a hemisphere
       const double theta = std::acos(1 - solid / (2 * std::numbers::pi));
       const Zonal<N> cap = zh_cap<N>(static_cast<float>(theta));
       double norm2 = 0;
@@ -52,7 +54,8 @@ struct OlTable {
         double p[N];
         legendre(z[i], N, p);
         double v = 0;
-        for (int l = 1; l < N; ++l) v += shape[k][l] * std::sqrt((2 * l + 1) / (4 * std::numbers::pi)) * p[l];
+        for (int l = 1; l < N; ++l)
+          v += shape[k][l] * std::sqrt((2 * l + 1) / (4 * std::numbers::pi)) * p[l];
         value[k][i] = v;
       }
     }
@@ -66,7 +69,8 @@ struct OlTable {
           double p[N];
           legendre(z[i], N, p);
           const double e = std::exp(s * value[k][i]) * w[i];
-          for (int l = 0; l < N; ++l) e_l[l] += e * std::sqrt((2 * l + 1) / (4 * std::numbers::pi)) * p[l];
+          for (int l = 0; l < N; ++l)
+            e_l[l] += e * std::sqrt((2 * l + 1) / (4 * std::numbers::pi)) * p[l];
         }
         a_sum += e_l[0] / std::sqrt(4 * std::numbers::pi);
         for (int l = 1; l < N; ++l) num += e_l[l] * s * shape[k][l];
@@ -82,7 +86,8 @@ struct OlTable {
 template <int N>
 OlFit ol_fit(float norm) {
   static const OlTable<N> table;
-  const double x = std::clamp<double>(norm, 0.0, kMaxNorm) / kMaxNorm * (kTable - 1);
+  // NaN reads as 0 (a NaN input then fails exp_visibility's clamp, which zeroes it).
+  const double x = (norm > 0 ? std::min<double>(norm, kMaxNorm) : 0.0) / kMaxNorm * (kTable - 1);
   const int i = std::min(static_cast<int>(x), kTable - 2);
   const float f = static_cast<float>(x - i);
   return {table.fit[i].a * (1 - f) + table.fit[i + 1].a * f,
@@ -102,7 +107,8 @@ Coeffs<N> log_clamped(const Coeffs<N>& f, float eps) {
 
 template <int N>
 Coeffs<N> exp_numeric(const Coeffs<N>& f) {
-  return project<N>([&](const glm::vec3& d) { return std::exp(evaluate<N>(f, d)); }, quadrature<N>());
+  return project<N>([&](const glm::vec3& d) { return std::exp(evaluate<N>(f, d)); },
+                    quadrature<N>());
 }
 
 template <int N>
@@ -123,7 +129,9 @@ Coeffs<N> exp_hyb(const Coeffs<N>& f, float ol_norm) {
   for (int i = 1; i < N * N; ++i) norm2 += f[i] * f[i];
   const float norm = std::sqrt(norm2);
   int k = 0;
-  if (norm > ol_norm) k = static_cast<int>(std::ceil(std::log2(norm / ol_norm)));
+  // A norm whose square overflowed (inf) takes no squarings: the clamp handles the result.
+  if (norm > ol_norm && std::isfinite(norm))
+    k = static_cast<int>(std::ceil(std::log2(norm / ol_norm)));
   Coeffs<N> scaled = f;
   scaled[0] = 0;  // DC isolation: applied exactly at the end
   const float down = std::ldexp(1.0f, -k);
@@ -151,12 +159,12 @@ Coeffs<N> exp_visibility(const Coeffs<N>& log_visibility) {
   return v;
 }
 
-#define PENUMBRA_EXPLOG_INSTANTIATE(N)                            \
-  template OlFit ol_fit<N>(float);                               \
-  template Coeffs<N> log_clamped<N>(const Coeffs<N>&, float);    \
-  template Coeffs<N> exp_numeric<N>(const Coeffs<N>&);           \
-  template Coeffs<N> exp_ol<N>(const Coeffs<N>&);                \
-  template Coeffs<N> exp_hyb<N>(const Coeffs<N>&, float);      \
+#define PENUMBRA_EXPLOG_INSTANTIATE(N)                        \
+  template OlFit ol_fit<N>(float);                            \
+  template Coeffs<N> log_clamped<N>(const Coeffs<N>&, float); \
+  template Coeffs<N> exp_numeric<N>(const Coeffs<N>&);        \
+  template Coeffs<N> exp_ol<N>(const Coeffs<N>&);             \
+  template Coeffs<N> exp_hyb<N>(const Coeffs<N>&, float);     \
   template Coeffs<N> exp_visibility<N>(const Coeffs<N>&);
 PENUMBRA_EXPLOG_INSTANTIATE(2)
 PENUMBRA_EXPLOG_INSTANTIATE(3)
