@@ -11,6 +11,7 @@
 
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/load_error.h"
+#include "penumbra/assets/mesh_simplify.h"
 #include "penumbra/assets/sphere_file.h"
 #include "penumbra/assets/sphere_fit.h"
 #include "penumbra/components/debug_shapes.h"
@@ -175,6 +176,8 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
     m.radius = 0;
     for (const data::Sphere& s : *m.spheres)
       m.radius = std::max(m.radius, glm::length(s.centre - m.centre) + s.radius);
+    if (config.simplify_error > 0)  // drawn and shaded small (the spheres fit the full mesh)
+      *mesh = assets::simplify_mesh(*mesh, {0.1f, config.simplify_error}).mesh;
     m.points = std::make_shared<const std::vector<glm::vec3>>(mesh->positions);
     m.normals = std::make_shared<const std::vector<glm::vec3>>(vertex_normals(*mesh));
     m.mesh = std::move(mesh);

@@ -4,7 +4,8 @@
 //   penumbra_play [--scene terrain|sample] [--data DIR] [--frames N] [--threads T] [--particles N]
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
-//                 [--device NAME] [--size WxH] [--points N] [--terrain-lod PX] [--light-budget F]
+//                 [--device NAME] [--size WxH] [--points N] [--boulders N] [--boulder-detail E]
+//                 [--show-spheres] [--terrain-lod PX] [--light-budget F]
 //                 [--bench FILE [--bench-splits T:L,...]] [--gpu-timing-frames N]
 //
 // --scene terrain (default): the elevation model lit by the terrain shadow system under a
@@ -14,6 +15,7 @@
 // overlay, until it is closed (or N frames). Otherwise offscreen: N frames (default 300), K
 // screenshots written to DIR as PNG. Both print the per-system CPU timing table and the
 // per-pass GPU timing table. --points N draws at most N particles (every k-th; 0: all).
+// --boulder-detail E: the boulders' meshes simplified to relative error E (0: full meshes).
 // --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F the
 // largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
 // (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
@@ -38,16 +40,18 @@ namespace {
 using penumbra::play::Options;
 
 [[noreturn]] void usage(const char* error) {
-  std::fprintf(stderr,
-               "penumbra_play: %s\nusage: penumbra_play [--scene terrain|sample] [--data DIR] "
-               "[--frames N] [--threads T] "
-               "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
-               "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
-               "[--points N] [--boulders N] [--show-spheres] [--terrain-lod PX] [--light-budget F] "
-               "[--bench FILE "
-               "[--bench-splits "
-               "T:L,...]] [--gpu-timing-frames N]\n",
-               error);
+  std::fprintf(
+      stderr,
+      "penumbra_play: %s\nusage: penumbra_play [--scene terrain|sample] [--data DIR] "
+      "[--frames N] [--threads T] "
+      "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
+      "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
+      "[--points N] [--boulders N] [--boulder-detail E] [--show-spheres] [--terrain-lod PX] "
+      "[--light-budget F] "
+      "[--bench FILE "
+      "[--bench-splits "
+      "T:L,...]] [--gpu-timing-frames N]\n",
+      error);
   std::exit(2);
 }
 
@@ -99,7 +103,13 @@ Options parse(int argc, char** argv) {
       o.show_spheres = true;
     else if (a == "--boulders")
       o.boulders = static_cast<int>(number(0));
-    else if (a == "--terrain-lod") {
+    else if (a == "--boulder-detail") {
+      const std::string v = value();
+      char* end = nullptr;
+      o.boulder_detail = std::strtof(v.c_str(), &end);
+      if (end == v.c_str() || *end != '\0' || !(o.boulder_detail >= 0 && o.boulder_detail < 1))
+        usage(("--boulder-detail needs a relative error in [0, 1), got '" + v + "'").c_str());
+    } else if (a == "--terrain-lod") {
       const std::string v = value();
       char* end = nullptr;
       o.terrain_lod_pixels = std::strtof(v.c_str(), &end);

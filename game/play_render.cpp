@@ -65,6 +65,7 @@ struct Sim {
       if (o.light_budget > 0) demo.light_refresh.budget = o.light_budget;
       if (o.boulders >= 0) demo.boulders.count = o.boulders;
       demo.boulders.show_spheres = o.show_spheres;
+      if (o.boulder_detail >= 0) demo.boulders.simplify_error = o.boulder_detail;
       demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
       game::populate_terrain_demo(world, demo);
       world.resource<game::HorizonProbe>().aspect =

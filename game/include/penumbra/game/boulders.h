@@ -23,9 +23,13 @@
 namespace penumbra::game {
 
 struct BoulderConfig {
-  int count = 12;             // 0: none
-  int spheres = 16;           // per model
-  float radius = 250.0f;      // metres: the sphere set's bounding radius after scaling
+  int count = 12;         // 0: none
+  int spheres = 16;       // per model
+  float radius = 250.0f;  // metres: the sphere set's bounding radius after scaling
+  // Meshes drawn and shaded simplified to this deviation, relative to the model's extent (0: the
+  // full meshes). 0.01: 0.4 pixels at the nearest the demo's camera comes (8 km, 20-pixel
+  // boulders), with a tenth of the triangles at most (docs/blocker_accumulation.md).
+  float simplify_error = 0.01f;
   std::string cache_dir;      // where fitted sphere files are kept; empty: fit every start
   bool show_spheres = false;  // the debug view: each sphere set as wire circles
 };
