@@ -274,10 +274,12 @@ void shade_terrain(jobs::SystemContext& ctx) {
               std::make_shared<terrain_shadow::LogWedge<N>>(h.horizons->azimuths, log_eps);
         const TerrainReceivers t{terrain.heights.get(), terrain.origin, terrain.height_scale,
                                  h.horizons.get(), h.normals.get()};
-        const int period = std::max(1, w.resource<const BlockerSettingsResource>().refresh_period);
+        const BlockerSettingsResource& settings = w.resource<const BlockerSettingsResource>();
+        const int period = std::max(1, settings.refresh_period);
+        const int stride = settings.terrain_sampling == TerrainSampling::kEverySecondTexel ? 2 : 1;
         const TerrainShadeStats stats = update_terrain_ratios<N>(
             t, acc, *state->wedges, radiance, state->ratio,
-            static_cast<int>(field.frame % static_cast<std::uint64_t>(period)), period);
+            static_cast<int>(field.frame % static_cast<std::uint64_t>(period)), period, stride);
         state->reached = stats.reached;
         bool any = false;
         for (const glm::vec3& q : state->ratio) any |= q != glm::vec3(1.0f);

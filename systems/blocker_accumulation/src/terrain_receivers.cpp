@@ -36,7 +36,8 @@ TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
                                         const BlockerAccumulation<N>& blockers,
                                         const terrain_shadow::LogWedge<N>& wedges,
                                         const sh::CoeffsRgb<N>& radiance,
-                                        std::vector<glm::vec3>& ratio, int phase, int period) {
+                                        std::vector<glm::vec3>& ratio, int phase, int period,
+                                        int stride) {
   const data::HeightField& f = *t.field;
   const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
   if (t.normals->size() != n || t.horizons->width != f.width || t.horizons->height != f.height ||
@@ -44,7 +45,10 @@ TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
     throw std::invalid_argument("terrain receivers: " + f.source +
                                 ": normals or horizons do not match the field");
   if (period < 1) period = 1;
+  if (stride < 1) stride = 1;
   if (ratio.size() != n) ratio.assign(n, glm::vec3(1.0f));
+  // The lattice of texels shaded: every stride-th one along x and y, and the last ones.
+  const auto on_lattice = [stride](int v, int size) { return v % stride == 0 || v == size - 1; };
   // Which texels some blocker reaches: a mask over the union of their rectangles.
   std::vector<unsigned char> mask(n, 0);
   const float min_sin = blockers.settings().blocker.min_sin;
@@ -58,9 +62,10 @@ TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
   constexpr float kNegligibleLog = 0.01f;  // about 1% of the visibility, averaged
   std::atomic<std::size_t> reached{0}, changed{0};
   tbb::parallel_for(0, f.height, [&](int y) {
-    if ((y % period) != phase % period) return;
+    if (!on_lattice(y, f.height) || ((y / stride) % period) != phase % period) return;
     std::size_t row_reached = 0, row_changed = 0;
     for (int x = 0; x < f.width; ++x) {
+      if (!on_lattice(x, f.width)) continue;
       const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
       ratio[i] = glm::vec3(1.0f);
       if (!mask[i]) continue;
@@ -93,6 +98,30 @@ TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
     reached += row_reached;
     changed += row_changed;
   });
+  if (stride > 1) {  // the texels between lattice points: bilinear in the lattice's ratios
+    const auto bracket = [stride](int v, int size, int& v0, int& v1, float& a) {
+      v0 = std::min(v / stride * stride, size - 1);
+      v1 = std::min(v0 + stride, size - 1);
+      a = v1 > v0 ? static_cast<float>(v - v0) / static_cast<float>(v1 - v0) : 0.0f;
+    };
+    tbb::parallel_for(0, f.height, [&](int y) {
+      int y0, y1;
+      float ay;
+      bracket(y, f.height, y0, y1, ay);
+      const glm::vec3* r0 = &ratio[static_cast<std::size_t>(y0) * f.width];
+      const glm::vec3* r1 = &ratio[static_cast<std::size_t>(y1) * f.width];
+      glm::vec3* out = &ratio[static_cast<std::size_t>(y) * f.width];
+      const bool lattice_row = on_lattice(y, f.height);
+      for (int x = 0; x < f.width; ++x) {
+        if (lattice_row && on_lattice(x, f.width)) continue;
+        int x0, x1;
+        float ax;
+        bracket(x, f.width, x0, x1, ax);
+        out[x] =
+            (1 - ay) * ((1 - ax) * r0[x0] + ax * r0[x1]) + ay * ((1 - ax) * r1[x0] + ax * r1[x1]);
+      }
+    });
+  }
   return {reached.load(), changed.load()};
 }
 
@@ -118,7 +147,7 @@ template TerrainShadeStats update_terrain_ratios<4>(const TerrainReceivers&,
                                                     const BlockerAccumulation<4>&,
                                                     const terrain_shadow::LogWedge<4>&,
                                                     const sh::CoeffsRgb<4>&,
-                                                    std::vector<glm::vec3>&, int, int);
+                                                    std::vector<glm::vec3>&, int, int, int);
 template std::vector<glm::vec3> shade_terrain_receivers<4>(
     const TerrainReceivers&, const BlockerAccumulation<4>&, const terrain_shadow::LogWedge<4>&,
     const sh::CoeffsRgb<4>&, const std::vector<glm::vec3>&, TerrainShadeStats*);

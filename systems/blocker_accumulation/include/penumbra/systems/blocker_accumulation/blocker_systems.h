@@ -47,12 +47,18 @@ namespace penumbra::blocker_accumulation {
 
 inline constexpr int kSystemBands = 4;  // = components::ReceiverLighting::kBands
 
+enum class TerrainSampling { kEveryTexel, kEverySecondTexel };
+
 // Resource: how the system shades.
 struct BlockerSettingsResource {
   BlockerSettings settings;
   // Frames over which every reached terrain row is re-shaded once (1: all every frame).
   // Blockers that move a fraction of a texel per frame show no lag worth a whole frame's work.
   int refresh_period = 4;
+  // Which terrain texels are shaded: all, or every second one along x and y (a quarter), the
+  // others interpolated (terrain_receivers.h). Shadows of blockers several texels wide are
+  // smooth at the SH's resolution (docs/blocker_accumulation.md gives the difference).
+  TerrainSampling terrain_sampling = TerrainSampling::kEverySecondTexel;
   // Receiver points shaded per frame (0: all): entities are re-shaded whole, round robin, until
   // the budget is spent (at least one per frame; a new entity at once).
   std::size_t receiver_budget = 2048;

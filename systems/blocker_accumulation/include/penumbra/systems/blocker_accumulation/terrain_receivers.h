@@ -46,16 +46,18 @@ terrain_shadow::TexelRect reached_texels(const TerrainReceivers& t, const WorldS
                                          float min_sin);
 
 // The per-texel ratio E(terrain + blockers) / E(terrain) (1 where no blocker reaches or the
-// blockers' summed log-visibility averages above -0.005; faded in up to -0.01, about 1%),
-// recomputed for the rows y with y % period == phase; the other rows keep their values (spreading
-// the work over `period` frames). `ratio` is reset to 1 when its size is not the field's.
+// blockers' summed log-visibility averages above -0.005; faded in up to -0.01, about 1%).
+// Shaded on the lattice of every `stride`-th texel along x and y (and the last row and column),
+// the texels between bilinear in the lattice's ratios; of the lattice rows, those with
+// (y / stride) % period == phase are recomputed and the others keep their values (spreading the
+// work over `period` frames). `ratio` is reset to 1 when its size is not the field's.
 template <int N>
 TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
                                         const BlockerAccumulation<N>& blockers,
                                         const terrain_shadow::LogWedge<N>& wedges,
                                         const sh::CoeffsRgb<N>& radiance,
                                         std::vector<glm::vec3>& ratio, int phase = 0,
-                                        int period = 1);
+                                        int period = 1, int stride = 1);
 
 // `base` (the terrain system's per-texel lighting) with the blockers' shadows applied: every
 // row's ratio computed now.
