@@ -1,14 +1,18 @@
 #!/usr/bin/env python3
 """Writes the main job's performance tables from the `play` benchmark record.
 
-    ./penumbra bench play                 # -> build/bench/play.json
+    ./penumbra bench play                 # -> build/bench/play.json, play_terrain.json
     python3 scripts/play_table.py [build/bench/play.json] [--write README.md docs/play.md]
+
+play_terrain.json (beside the record: the same main job with --boulders 0, run right after) adds
+the terrain demo alone, so the tables show what the blocker system's boulders cost.
 
 Prints the tables (markdown); with --write, replaces the text between the markers
 <!-- play-table:begin --> and <!-- play-table:end --> in each file named. Every number comes from
 the record, measured in one run: no figure in those tables is typed by hand.
 """
 import json
+import os
 import sys
 
 from doc_markers import write_between
@@ -16,7 +20,7 @@ from doc_markers import write_between
 BEGIN, END = "<!-- play-table:begin -->", "<!-- play-table:end -->"
 
 
-def tables(r):
+def tables(r, alone=None):
     f, m, t, lights = r["frame"], r["machine"], r["terrain"], r["lights"]
     th = r["threads"]
     lines = [
@@ -37,6 +41,19 @@ def tables(r):
         f"{1000 / 30 - f['median_ms']:.2f} / {4 * f['empty_frame_ms'] - f['median_ms']:.2f} ms | - |",
         f"| simulation / render record + submit (mean) | {f['simulation_ms']:.2f} / "
         f"{f['render_ms']:.2f} ms | - |",
+    ]
+    if alone:
+        a = alone["frame"]
+        lines += [
+            f"| the terrain demo alone (`--boulders 0`, run right after; load average "
+            f"{alone['machine']['load_average_start']:.2f}): frame rate, median / empty frame | "
+            f"{a['fps']:.1f} fps, {a['median_ms']:.2f} / {a['empty_frame_ms']:.2f} ms = "
+            f"{a['x_empty_frame']:.2f}x | >= 30 fps, <= 4x |",
+            f"| what the boulders cost (blocker system, mesh pass): median frame, simulation | "
+            f"+{f['median_ms'] - a['median_ms']:.2f} ms, +{f['simulation_ms'] - a['simulation_ms']:.2f} "
+            f"ms | - |",
+        ]
+    lines += [
         f"| GPU frame (timestamps, timed frames) | {f['gpu_frame_ms']:.2f} ms | - |",
         f"| terrain triangles per frame | {t['triangles']:,.0f} (full detail: "
         f"{t['triangles_full_detail']:,}) at {t['lod_pixels']:g} px | - |",
@@ -78,7 +95,12 @@ def main(argv):
         record = json.load(f)
     if record.get("format") != "penumbra-play" or record.get("version") != 1:
         sys.exit(f"{path}: not a penumbra-play version 1 record")
-    text = tables(record)
+    alone = None
+    alone_path = os.path.join(os.path.dirname(path), "play_terrain.json")
+    if os.path.exists(alone_path):
+        with open(alone_path) as f:
+            alone = json.load(f)
+    text = tables(record, alone)
     print(text)
     for target in targets:
         write_between(target, BEGIN, END, text)
