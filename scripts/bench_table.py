@@ -7,8 +7,11 @@
 Prints the table (markdown); with --write, replaces the text between
 <!-- bench-table:GROUP:begin --> and <!-- bench-table:GROUP:end --> in each file named. Every
 number comes from the record, measured in one run (the play group has its own script,
-scripts/play_table.py). The blockers group adds a table of its frames from build/bench/blockers.json
-(Google Benchmark's output: medians and counters) and the load average's three values.
+scripts/play_table.py). The blockers group adds a table of its frames from
+build/bench/blockers_gbench.json (Google Benchmark's output: medians, spread and counters), the
+speed-versus-accuracy sweep from its records (build/bench/blockers.json) and the load average's
+three values; in a file with <!-- bench-table:blockers-brief:begin/end --> markers instead (the
+README), a short table of the 400-blocker frames and the sweep's best trade-offs, from the records.
 """
 import json
 import sys
@@ -48,10 +51,11 @@ def table(r):
             "load average " + " / ".join(f"{x:.2f}" for x in load) + " (1, 5, 15 min, as `uptime` "
             "prints it) at the start")
         lines += blocker_frames()
+        lines += blocker_sweep(blocker_records())
     return "\n".join(lines)
 
 
-def blocker_frames(path="build/bench/blockers.json"):
+def blocker_frames(path="build/bench/blockers_gbench.json"):
     """The blockers group's frames: median ms, speed-up, pairs and irradiance difference."""
     with open(path) as f:
         runs = json.load(f)["benchmarks"]
@@ -67,7 +71,7 @@ def blocker_frames(path="build/bench/blockers.json"):
     lines = [
         "",
         f"Frames ({fmt(next(iter(med.values()))['receivers']) if med else '-'} receivers, 2 "
-        "threads, median of the repetitions; build/bench/blockers.json):",
+        "threads, median of the repetitions; build/bench/blockers_gbench.json):",
         "",
         "| scene | method | ms / frame (cv) | speed-up vs all pairs | view_blocker calls / receiver "
         "| log-SH adds / receiver | HYB squares (mean) | irradiance vs all pairs: rel RMS, max |",
@@ -85,6 +89,88 @@ def blocker_frames(path="build/bench/blockers.json"):
     return lines
 
 
+def pct(v):
+    return "-" if v is None else f"{100 * v:.2f}%"
+
+
+def blocker_records(path="build/bench/blockers.json"):
+    with open(path) as f:
+        return json.load(f)
+
+
+def blocker_sweep(rec):
+    """The blockers group's speed-versus-accuracy sweep from its records: one row per
+    configuration, one column per band count."""
+    sweep = [x for x in rec["records"] if x["kind"] == "sweep"]
+    if not sweep:
+        return []
+    rows = {}  # (scene, method, min_sin, far_error) -> {bands: record}, in run order
+    for x in sweep:
+        p = x["params"]
+        rows.setdefault((x["scene"], x["method"], p["min_sin"], p.get("far_error")), {})[x["bands"]] = x
+    bands = sorted({x["bands"] for x in sweep})
+    best = set(rec.get("best_tradeoff", {}).values())
+    load = rec.get("load_avg_at_end")
+    lines = [
+        "",
+        f"Speed versus accuracy ({fmt(sweep[0]['receivers'])} receivers: the central quarter of "
+        "the frames' grid, 2 threads, median of 3 frames; build/bench/blockers.json, chart "
+        "build/bench/blockers.svg; load average " + ("-" if load is None else f"{load:.2f}") +
+        " at the end). Each cell: ms / frame, then the irradiance's relative RMS difference against "
+        "all pairs at the same bands and, in brackets, against all pairs at 5 bands; **bold**: the "
+        f"best trade-off ({rec['best_tradeoff_rule']}, error_budget {pct(rec['error_budget'])}):",
+        "",
+        "| scene | method | min_sin | far_error | " + " | ".join(f"{b} bands" for b in bands) + " |",
+        "| --- | --- | --- | --- | " + " | ".join("---" for _ in bands) + " |",
+    ]
+    for (scene, method, min_sin, far_error), by_bands in rows.items():
+        cells = []
+        for b in bands:
+            x = by_bands.get(b)
+            if x is None:
+                cells.append("-")
+                continue
+            cell = f"{fmt(x['ms'])} ms, {pct(x['rel_rms_error'])} ({pct(x['rel_rms_error_vs_5_bands'])})"
+            cells.append(f"**{cell}**" if x["case"] in best else cell)
+        lines.append(f"| {scene} | {method} | {fmt(min_sin) if method != 'all_pairs' else '0'} | "
+                     f"{'-' if far_error is None else fmt(far_error)} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def blocker_brief(summary, rec):
+    """The README's short blockers table: the 400-blocker frames and the sweep's best trade-offs."""
+    load = summary.get("load_avg") or [None]
+    frames = [x for x in rec["records"] if x["kind"] == "frame" and x["blockers"] == 400]
+    lines = [
+        f"Measured {summary['date']} on {summary['num_cpus']} CPUs, load average "
+        + " / ".join(f"{x:.2f}" for x in load if x is not None)
+        + " at the start (`./penumbra bench blockers`, build/bench/blockers.json).",
+        "",
+        "| frame: 400 spheres, 4 bands | receivers | ms / frame | speed-up vs all pairs "
+        "| irradiance vs all pairs: rel RMS, max | goal |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for x in frames:
+        goal = "-"
+        if x.get("goal_ms") is not None and x["method"] != "all_pairs":
+            goal = f"<= {fmt(x['goal_ms'])} ms: {'met' if x['goal_met'] else 'missed'}"
+        err = "-" if x["method"] == "all_pairs" else f"{pct(x['rel_rms_error'])}, {pct(x['max_rel_error'])}"
+        lines.append(f"| {x['scene']} {x['method']} | {fmt(x['receivers'])} | {fmt(x['ms'])} | "
+                     f"{fmt(x['speedup_vs_all_pairs'])} | {err} | {goal} |")
+    by_key = {x["case"]: x for x in rec["records"]}
+    for scene, key in rec.get("best_tradeoff", {}).items():
+        x = by_key[key]
+        p = x["params"]
+        what = f"{x['method']}, {x['bands']} bands, min_sin {fmt(p['min_sin'])}" + (
+            f", far_error {fmt(p['far_error'])}" if "far_error" in p else "")
+        base = fmt(x["baseline_ms"])
+        lines.append(
+            f"\nSweep, {scene} ({fmt(x['receivers'])} receivers), fastest within "
+            f"{pct(rec['error_budget'])} of all pairs: {what}: {fmt(x['ms'])} ms against all pairs' "
+            f"{base} ms, rel RMS {pct(x['rel_rms_error'])} (vs 5 bands {pct(x['rel_rms_error_vs_5_bands'])}).")
+    return "\n".join(lines)
+
+
 def main(argv):
     if not argv:
         sys.exit("usage: bench_table.py GROUP [--write FILE...]")
@@ -97,6 +183,13 @@ def main(argv):
     print(text)
     begin, end = f"<!-- bench-table:{group}:begin -->", f"<!-- bench-table:{group}:end -->"
     for target in targets:
+        brief = f"<!-- bench-table:{group}-brief:begin -->"
+        if group == "blockers":
+            with open(target) as f:
+                if brief in f.read():
+                    write_between(target, brief, brief.replace(":begin", ":end"),
+                                  blocker_brief(record, blocker_records()))
+                    continue
         write_between(target, begin, end, text)
 
 

@@ -2,6 +2,7 @@
 // [Giraud] sec. 4.2, [Ren06]) on this machine.
 //
 //   build/release/tests/bench/bench_blockers [--benchmark_* flags] [--summary_out=PATH]
+//       [--records_out=PATH.json] [--chart_out=PATH.svg]
 //
 // This file: the single-threaded kernels (CPU clock), at 3, 4 and 5 bands:
 //  - pair      view_blocker + add_log_visibility over 4,096 receiver-sphere pairs of varied
@@ -14,6 +15,9 @@
 //  - fma       scalar FMA throughput (8 independent chains), the unit of the floors.
 // blocker_frame_bench.cpp: the frame (100,000 receivers, 50 and 400 blockers, 2 threads; all
 // pairs, grid, grid + hierarchy), its pair counts, floors, goal and accuracy against all pairs.
+// blocker_sweep_bench.cpp: speed versus accuracy (min_sin, bands, far_error on a window of the
+// frame's receivers). blocker_records.cpp: --records_out writes one JSON record per frame case
+// and sweep point, --chart_out the speed-versus-accuracy chart (SVG), both atomically.
 //
 // Floors: floating-point operations counted in the code (below), each FMA, min/max, division,
 // square root or transcendental as one, times the measured scalar FMA time: a lower bound on
@@ -302,6 +306,7 @@ void register_benchmarks() {
   register_bands<4>();
   register_bands<5>();
   bb::register_frame_benchmarks();
+  bb::register_sweep_benchmarks();
 }
 
 // Single-threaded kernels: their CPU time (the clock they were timed with).
@@ -350,7 +355,7 @@ void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {
               "baseline: the exponential alone; floor: " + fmt("%.0f", shade) + " ops");
 }
 
-pb::Summary summarize(const pb::Results& r) {
+pb::Summary summarize(const pb::Results& r, const bb::Outputs& out) {
   pb::Summary s;
   const auto fma = pb::scale(cpu_ns(r, "BM_FmaThroughput"), 1.0 / 8192);
   const double ns_per_fma = fma.value_or(0.0);
@@ -367,11 +372,16 @@ pb::Summary summarize(const pb::Results& r) {
   summarize_bands<4>(r, s, ns_per_fma);
   summarize_bands<5>(r, s, ns_per_fma);
   bb::summarize_frames(r, s, ns_per_fma);
+  bb::write_records(r, ns_per_fma, out);
   return s;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  return pb::run_group(argc, argv, "blockers", register_benchmarks, summarize);
+  bb::Outputs out;
+  out.records_path = pb::take_flag(argc, argv, "records_out");
+  out.chart_path = pb::take_flag(argc, argv, "chart_out");
+  return pb::run_group(argc, argv, "blockers", register_benchmarks,
+                       [&](const pb::Results& r) { return summarize(r, out); });
 }

@@ -55,10 +55,7 @@ constexpr std::size_t kBlock = 1024;
 constexpr std::size_t kStride = 50;  // accuracy and squarings subsample
 constexpr double kGoalMs = 30;       // issue 11: 100,000 receivers x 400 blockers, 2 cores
 
-struct Scene {
-  std::vector<ba::WorldSphere> spheres;
-  std::vector<ba::BlockerGroup> groups;  // empty: every sphere its own group
-};
+using Scene = bb::FrameScene;  // groups empty: every sphere its own group
 
 Scene objects_scene() {
   std::mt19937 rng(77);
@@ -257,6 +254,17 @@ std::string fmt(const char* f, double v) {
 }  // namespace
 
 namespace penumbra::bench::blockers {
+
+const FrameScene& frame_scene(const std::string& name) {
+  return fixture().scenes.at(name);
+}
+
+std::vector<FrameCaseInfo> frame_cases() {
+  std::vector<FrameCaseInfo> out;
+  for (const FrameCase& c : kCases)
+    out.push_back({key(c.scene, c.method), c.scene, method_name(c.method)});
+  return out;
+}
 
 void register_frame_benchmarks() {
   const pb::Timing frame{.unit = benchmark::kMillisecond, .iterations = 2, .repetitions = 5};

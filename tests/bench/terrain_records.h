@@ -1,7 +1,8 @@
 // The terrain group's outputs besides the summary table: one JSON record per measured case
 // and per speed-versus-accuracy point (--records_out; scene, method, params, size, ms, floor_ms,
 // rel_rms_error, max_rel_error, ...), and the speed-versus-accuracy chart as SVG (--chart_out),
-// both written atomically (temporary file, then rename). summarize() (terrain_summary.cpp)
+// both written atomically (temporary file, then rename; the chart writer and the write are
+// shared with the blockers group: bench_chart.h). summarize() (terrain_summary.cpp)
 // builds the records from a run's results and writes both.
 #pragma once
 
@@ -35,8 +36,5 @@ bool on_chart(const Record& r);
 std::string records_json(const std::vector<Record>& records, const std::string& best);
 // The chart; the point `best_key` is ringed.
 std::string chart_svg(const std::vector<Record>& records, const std::string& best_key);
-
-// Writes `text` to `path` through a temporary file and a rename; false on failure.
-bool write_atomically(const std::string& path, const std::string& text);
 
 }  // namespace penumbra::terrain_bench

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_chart.h"
 #include "terrain_records.h"
 
 namespace penumbra::terrain_bench {
@@ -131,13 +132,13 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
   s.add(dram);
 
   if (!out.records_path.empty()) {
-    if (write_atomically(out.records_path, records_json(records, best)))
+    if (pb::write_atomically(out.records_path, records_json(records, best)))
       std::cout << "records written to " << out.records_path << "\n";
     else
       std::cerr << "bench_terrain: cannot write " << out.records_path << "\n";
   }
   if (!out.chart_path.empty()) {
-    if (write_atomically(out.chart_path, chart_svg(records, best)))
+    if (pb::write_atomically(out.chart_path, chart_svg(records, best)))
       std::cout << "chart written to " << out.chart_path << "\n";
     else
       std::cerr << "bench_terrain: cannot write " << out.chart_path << "\n";
