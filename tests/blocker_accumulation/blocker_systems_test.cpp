@@ -112,6 +112,40 @@ TEST(BlockerSystems, MaterialShadesDiffuseOrGlossyTowardsTheCamera) {
               (*after->irradiance)[corner].x * std::numbers::inv_pi_v<float>, 1e-5f);
 }
 
+// A set whose spheres name parents ([Ren06] hierarchy): each root with descendants becomes one
+// group, the root its bound and the leaves its blockers; bad parent indices are named and the
+// set is used flat.
+TEST(BlockerSystems, ParentIndicesMakeTheGroups) {
+  Scene s;
+  // Root 0 (r 3) over leaves 1 and 2; root 3 alone.
+  auto tree = std::make_shared<std::vector<Sphere>>(std::vector<Sphere>{
+      {{0, 0, 0}, 3.0f, -1}, {{-1, 0, 0}, 1.5f, 0}, {{1, 0, 0}, 1.5f, 0}, {{0, 6, 0}, 1.0f, -1}});
+  s.world.get_mut<SphereSet>(s.boulder)->spheres = tree;
+  s.executor.run(s.schedule, s.world);
+  const BlockerField& field = s.world.resource<BlockerField>();
+  EXPECT_TRUE(field.errors.empty());
+  const auto blockers = field.accumulation->blockers();
+  ASSERT_EQ(blockers.size(), 3u);  // the two leaves and the lone root; root 0 is only a bound
+  EXPECT_FLOAT_EQ(blockers[0].radius, 1.5f);
+  EXPECT_FLOAT_EQ(blockers[2].radius, 1.0f);
+  EXPECT_LT(s.at(0, 0).x, 0.8f * std::numbers::pi_v<float>);  // still shadows
+
+  auto bad = std::make_shared<std::vector<Sphere>>(*tree);
+  (*bad)[1].parent = 7;  // out of range
+  s.world.get_mut<SphereSet>(s.boulder)->spheres = bad;
+  s.executor.run(s.schedule, s.world);
+  ASSERT_EQ(s.world.resource<BlockerField>().errors.size(), 1u);
+  EXPECT_NE(s.world.resource<BlockerField>().errors[0].find("parent 7"), std::string::npos);
+  EXPECT_EQ(s.world.resource<BlockerField>().accumulation->blockers().size(), 4u);  // flat
+
+  (*bad)[1].parent = 0;
+  (*bad)[0].parent = 1;  // 0 -> 1 -> 0: a cycle
+  s.world.get_mut<SphereSet>(s.boulder)->spheres = std::make_shared<std::vector<Sphere>>(*bad);
+  s.executor.run(s.schedule, s.world);
+  ASSERT_EQ(s.world.resource<BlockerField>().errors.size(), 1u);
+  EXPECT_NE(s.world.resource<BlockerField>().errors[0].find("cycle"), std::string::npos);
+}
+
 // With a refresh period of 4 a receiving entity is re-shaded once in every 4 frames: a moved
 // blocker shows within 4 frames, and not every frame pays for every receiver.
 TEST(BlockerSystems, RefreshPeriodSpreadsReceiversOverFrames) {

@@ -60,17 +60,67 @@ sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   return radiance;
 }
 
-// A set's bound in its own frame and its disc coverage (bound_group, blocker_accumulation.h).
-SetBound bound_of(const std::vector<components::Sphere>& spheres) {
-  std::vector<WorldSphere> local(spheres.size());
-  for (std::size_t i = 0; i < spheres.size(); ++i)
-    local[i] = {spheres[i].centre, spheres[i].radius};
+// The bound and disc coverage of the set's spheres `members` (bound_group,
+// blocker_accumulation.h); `bound`, when given, replaces the computed bound.
+SetLayout::Group group_of(const std::vector<components::Sphere>& spheres,
+                          const std::vector<std::uint32_t>& members, std::uint32_t first,
+                          const components::Sphere* bound) {
+  std::vector<WorldSphere> local(members.size());
+  for (std::size_t i = 0; i < members.size(); ++i)
+    local[i] = {spheres[members[i]].centre, spheres[members[i]].radius};
   const BlockerGroup g = bound_group(local);
-  SetBound b;
-  b.centre = g.bound.centre;
-  b.radius = g.bound.radius;
-  b.coverage = g.coverage;
-  return b;
+  SetLayout::Group out{g.bound.centre, g.bound.radius, g.coverage, first,
+                       static_cast<std::uint32_t>(members.size())};
+  if (bound && members.size() > 1) {
+    // Coverage of the given bound's disc: the computed one's, scaled by the discs' areas.
+    out.centre = bound->centre;
+    out.radius = std::max(bound->radius, g.bound.radius);
+    const float k = g.bound.radius / std::max(out.radius, 1e-30f);
+    out.coverage = std::clamp(g.coverage * k * k, 0.01f, 1.0f);
+  }
+  return out;
+}
+
+// [Ren06] hierarchy from the parent indices, or one group (SetLayout, blocker_systems.h).
+SetLayout layout_of(const std::vector<components::Sphere>& spheres) {
+  SetLayout layout;
+  const std::size_t n = spheres.size();
+  std::vector<std::int32_t> root(n, -1);
+  bool hierarchy = false;
+  for (std::size_t i = 0; i < n && layout.error.empty(); ++i) {
+    std::int32_t at = static_cast<std::int32_t>(i);
+    for (std::size_t steps = 0; spheres[static_cast<std::size_t>(at)].parent >= 0; ++steps) {
+      const std::int32_t p = spheres[static_cast<std::size_t>(at)].parent;
+      if (static_cast<std::size_t>(p) >= n || steps >= n) {
+        layout.error = "sphere " + std::to_string(i) + ": parent " + std::to_string(p) +
+                       (steps >= n ? " is in a cycle" : " is out of range");
+        break;
+      }
+      at = p;
+      hierarchy = true;
+    }
+    root[i] = at;
+  }
+  std::vector<std::uint32_t> all(n);
+  for (std::uint32_t i = 0; i < n; ++i) all[i] = i;
+  if (!hierarchy || !layout.error.empty()) {
+    layout.leaves = all;
+    layout.groups.push_back(group_of(spheres, all, 0, nullptr));
+    return layout;
+  }
+  std::vector<bool> has_children(n, false);
+  for (const components::Sphere& s : spheres)
+    if (s.parent >= 0) has_children[static_cast<std::size_t>(s.parent)] = true;
+  for (std::uint32_t r = 0; r < n; ++r) {
+    if (spheres[r].parent >= 0) continue;
+    std::vector<std::uint32_t> members;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (root[i] == static_cast<std::int32_t>(r) && !has_children[i]) members.push_back(i);
+    const auto first = static_cast<std::uint32_t>(layout.leaves.size());
+    layout.groups.push_back(group_of(spheres, members, first, &spheres[r]));
+    layout.leaves.insert(layout.leaves.end(), members.begin(), members.end());
+  }
+  return layout;
 }
 
 void gather(ecs::World& w) {
@@ -82,45 +132,61 @@ void gather(ecs::World& w) {
   field.errors.clear();
   std::vector<WorldSphere> spheres;
   std::vector<BlockerGroup> groups;
-  std::erase_if(field.bounds, [](const auto& kv) { return kv.second.keep.use_count() <= 1; });
-  w.query<const SphereSet, const Transform>().each(
-      [&](ecs::Entity e, const SphereSet& set, const Transform& t) {
-        if (!set.spheres) return;
-        if (!finite(t.world)) {
-          field.errors.push_back(entity_name(e) +
-                                 ": transform is not finite; its spheres are "
+  std::erase_if(field.layouts, [](const auto& kv) { return kv.second.keep.use_count() <= 1; });
+  w.query<const SphereSet, const Transform>().each([&](ecs::Entity e, const SphereSet& set,
+                                                       const Transform& t) {
+    if (!set.spheres) return;
+    if (!finite(t.world)) {
+      field.errors.push_back(entity_name(e) +
+                             ": transform is not finite; its spheres are "
+                             "left out");
+      return;
+    }
+    auto [it, added] = field.layouts.try_emplace(set.spheres.get());
+    if (added) {
+      it->second = layout_of(*set.spheres);
+      it->second.keep = set.spheres;
+    }
+    const SetLayout& layout = it->second;
+    if (!layout.error.empty())
+      field.errors.push_back(entity_name(e) + ": " + layout.error +
+                             "; its spheres are used without the hierarchy");
+    const glm::mat3 m(t.world);
+    const float scale = std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
+    const std::size_t first_sphere = spheres.size(), first_group = groups.size();
+    for (const SetLayout::Group& g : layout.groups) {
+      const std::size_t first = spheres.size();
+      for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
+        const components::Sphere& s = (*set.spheres)[layout.leaves[k]];
+        const glm::vec3 c = glm::vec3(t.world * glm::vec4(s.centre, 1.0f));
+        const float r = s.radius * scale;
+        if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) ||
+            !(std::isfinite(r) && r >= 0)) {
+          field.errors.push_back(entity_name(e) + ": sphere " + std::to_string(layout.leaves[k]) +
+                                 " is not finite or has a negative radius; its spheres are "
                                  "left out");
+          spheres.resize(first_sphere);
+          groups.resize(first_group);
           return;
         }
-        const glm::mat3 m(t.world);
-        const float scale = std::max({glm::length(m[0]), glm::length(m[1]), glm::length(m[2])});
-        const std::size_t first = spheres.size();
-        for (std::size_t k = 0; k < set.spheres->size(); ++k) {
-          const components::Sphere& s = (*set.spheres)[k];
-          const glm::vec3 c = glm::vec3(t.world * glm::vec4(s.centre, 1.0f));
-          const float r = s.radius * scale;
-          if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) ||
-              !(std::isfinite(r) && r >= 0)) {
-            field.errors.push_back(entity_name(e) + ": sphere " + std::to_string(k) +
-                                   " is not finite or has a negative radius; its spheres are "
-                                   "left out");
-            spheres.resize(first);
-            return;
-          }
-          spheres.push_back({c, r});
-        }
-        auto [it, added] = field.bounds.try_emplace(set.spheres.get());
-        if (added) {
-          it->second = bound_of(*set.spheres);
-          it->second.keep = set.spheres;
-        }
-        const SetBound& sb = it->second;
-        const glm::vec3 bc = glm::vec3(t.world * glm::vec4(sb.centre, 1.0f));
-        groups.push_back({{bc, sb.radius * scale},
-                          static_cast<std::uint32_t>(first),
-                          static_cast<std::uint32_t>(spheres.size() - first),
-                          sb.coverage});
-      });
+        spheres.push_back({c, r});
+      }
+      if (spheres.size() == first) continue;
+      const glm::vec3 bc = glm::vec3(t.world * glm::vec4(g.centre, 1.0f));
+      if (!std::isfinite(bc.x) || !std::isfinite(bc.y) || !std::isfinite(bc.z) ||
+          !std::isfinite(g.radius * scale)) {
+        field.errors.push_back(entity_name(e) +
+                               ": a bounding sphere is not finite; its spheres are left out");
+        spheres.resize(first_sphere);
+        groups.resize(first_group);
+        return;
+      }
+      groups.push_back({{bc, g.radius * scale},
+                        static_cast<std::uint32_t>(first),
+                        static_cast<std::uint32_t>(spheres.size() - first),
+                        g.coverage});
+    }
+  });
   field.accumulation->set_blockers(std::move(spheres), std::move(groups));
   std::vector<LightSource> lights;
   w.query<const components::SphericalLight>().each([&](const components::SphericalLight& l) {

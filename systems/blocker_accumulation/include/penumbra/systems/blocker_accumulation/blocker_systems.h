@@ -66,13 +66,23 @@ struct BlockerSettingsResource {
   std::size_t receiver_budget = 1024;
 };
 
-// A sphere set's bound in its own frame and the fraction of it the spheres cover (cached per
-// set by blockers.gather, for the object level of the hierarchy).
-struct SetBound {
+// How blockers.gather groups a sphere set (cached per set array): the hierarchy's object level
+// (blocker_accumulation.h). A set without parents is one group under its computed bound. A set
+// whose spheres name parents ([Ren06] hierarchy, data::Sphere::parent) gives one group per root
+// that has descendants: the root is the bound, its descendants without children of their own
+// (the leaves) are the blockers; a root without children is a group of one. Parent indices out
+// of range or in a cycle: the parents are ignored (flat set) and `error` says why.
+struct SetLayout {
+  struct Group {
+    glm::vec3 centre{0.0f};  // the bound, in the set's frame
+    float radius = 0;
+    float coverage = 1;
+    std::uint32_t first = 0, count = 0;  // leaves [first, first + count) of `leaves`
+  };
   std::shared_ptr<const std::vector<components::Sphere>> keep;  // the set it describes
-  glm::vec3 centre{0.0f};
-  float radius = 0;
-  float coverage = 1;
+  std::vector<Group> groups;
+  std::vector<std::uint32_t> leaves;  // indices into the set, group by group
+  std::string error;
 };
 
 // Resource: this frame's world-space blockers, written by blockers.gather.
@@ -82,7 +92,7 @@ struct BlockerField {
   std::size_t receivers = 0;        // receiver points shaded this frame
   std::uint64_t frame = 0;          // frames gathered (the refresh period's clock)
   std::uint64_t cursor = 0;         // next receiving entity of the round robin
-  std::unordered_map<const void*, SetBound> bounds;  // per SphereSet array
+  std::unordered_map<const void*, SetLayout> layouts;  // per SphereSet array
   // The terrain's log-SH wedges for the cast shadow on receivers (built on first use).
   std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> cast_wedges;
   std::map<float, PhongLobe<kSystemBands>> lobes;  // per Material Phong exponent
