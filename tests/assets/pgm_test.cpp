@@ -94,7 +94,8 @@ TEST(Pgm, FilesAndSidecars) {
                     "unknown height map type");
 
   // No sidecar: 1 m cells, heights are the samples.
-  const data::HeightField plain = load_height_field(dir.write("plain.pgm", pgm16(2, 2, {0, 1, 2, 70})));
+  const data::HeightField plain =
+      load_height_field(dir.write("plain.pgm", pgm16(2, 2, {0, 1, 2, 70})));
   EXPECT_FLOAT_EQ(plain.cell_size, 1.0f);
   EXPECT_FLOAT_EQ(plain.at(1, 1), 70.0f);
 
