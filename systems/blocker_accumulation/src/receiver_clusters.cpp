@@ -15,6 +15,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/rotation.h"
@@ -299,6 +300,28 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
     }
     cnt.clusters += 1;
     cnt.receivers += cl.count;
+    // kProduct receivers with a sum of their own: the exponential, product and dots run eight
+    // receivers at a time on vector lanes (sh/batch.h; the same results as irradiance_from_log).
+    sh::CoeffsBatch<N> pending;
+    sh::DirBatch pending_normal;
+    std::array<std::uint32_t, sh::kBatch> pending_out;
+    int lanes = 0;
+    const auto flush = [&] {
+      if (lanes == 0) return;
+      for (int l = lanes; l < sh::kBatch; ++l) {  // a partial batch: open-sky lanes
+        pending.set(l, sh::Coeffs<N>{});
+        pending_normal.set(l, glm::vec3(0, 0, 1));
+      }
+      sh::CoeffsBatch<N> v;
+      sh::exp_visibility_batch<N>(pending, v);
+      float e[3][sh::kBatch];
+      sh::shade_zh_batch<N>(radiance, acc.clamped_cosine_, v, pending_normal, e);
+      for (int l = 0; l < lanes; ++l) {
+        irradiance[pending_out[l]] = glm::vec3(e[0][l], e[1][l], e[2][l]);
+        if (!visibility.empty()) visibility[pending_out[l]] = v.get(l);
+      }
+      lanes = 0;
+    };
 
     constexpr int kMaxAxes = 64;
     for (std::uint32_t k = cl.first; k < cl.first + cl.count; ++k) {
@@ -370,8 +393,16 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
               far_gradient[0][i] * dp.x + far_gradient[1][i] * dp.y + far_gradient[2][i] * dp.z;
       }
       depth_limit(sum, weight + far_weight, axes, axis_count, weight);
-      irradiance[out] = acc.irradiance_from_log(radiance, p, n, sum, vis);
+      if (product_path) {
+        pending.set(lanes, sum);
+        pending_normal.set(lanes, n);
+        pending_out[lanes] = out;
+        if (++lanes == sh::kBatch) flush();
+      } else {
+        irradiance[out] = acc.irradiance_from_log(radiance, p, n, sum, vis);
+      }
     }
+    flush();
   };
 
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, clusters_.size(), 1),
