@@ -29,6 +29,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,6 +38,7 @@
 
 #include "bench_registry.h"
 #include "blocker_bench.h"
+#include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
@@ -44,7 +46,6 @@
 namespace penumbra::bench::blockers {
 
 namespace ba = penumbra::blocker_accumulation;
-
 
 constexpr int kSide = 316;         // 316 x 316 = 99,856 receivers
 constexpr float kExtent = 200.0f;  // metres, centred on the origin
@@ -276,6 +277,42 @@ void BM_Shade(benchmark::State& state) {
   state.counters["squares_mean"] = squares;
 }
 
+// The same sums, 8 receivers per call on vector lanes (sh/batch.h): exp_visibility_batch, and
+// irradiance_batch (exponential + clamped cosine rotated to the normal + product + 3 dots), array
+// of structures in and out (the transposes included), the last batch padded.
+template <int N>
+void BM_ExpBatch(benchmark::State& state) {
+  double squares = 0;
+  const auto sums = frame_log_sums<N>(squares);
+  std::vector<sh::Coeffs<N>> out(sums.size());
+  for (auto _ : state) {
+    sh::exp_visibility_batch<N>(std::span<const sh::Coeffs<N>>(sums),
+                                std::span<sh::Coeffs<N>>(out));
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(sums.size()));
+  state.counters["squares_mean"] = squares;
+}
+
+template <int N>
+void BM_ShadeBatch(benchmark::State& state) {
+  double squares = 0;
+  const auto sums = frame_log_sums<N>(squares);
+  sh::CoeffsRgb<N> sky{};
+  for (auto& c : sky) c[0] = std::sqrt(4 * std::numbers::pi_v<float>);
+  const std::vector<glm::vec3> normals(sums.size(), glm::vec3(0, 0, 1));
+  std::vector<glm::vec3> out(sums.size());
+  const sh::Zonal<N> cosine = sh::zh_clamped_cosine<N>();
+  for (auto _ : state) {
+    sh::irradiance_batch<N>(sky, cosine, sums, normals, out);
+    benchmark::DoNotOptimize(out.data());
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(sums.size()));
+  state.counters["squares_mean"] = squares;
+}
+
 // Scalar FMA throughput: 8 independent chains, so latency is hidden (as sh_bench.cpp).
 void BM_FmaThroughput(benchmark::State& state) {
   float a[8] = {1, 2, 3, 4, 5, 6, 7, 8};
@@ -297,6 +334,8 @@ void register_bands() {
   pb::add("BM_AddLog" + n, kCpu, BM_AddLog<N>);
   pb::add("BM_Exp" + n, kCpu, BM_Exp<N>);
   pb::add("BM_Shade" + n, kCpu, BM_Shade<N>);
+  pb::add("BM_ExpBatch" + n, kCpu, BM_ExpBatch<N>);
+  pb::add("BM_ShadeBatch" + n, kCpu, BM_ShadeBatch<N>);
 }
 
 void register_benchmarks() {
@@ -353,6 +392,13 @@ void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {
   bb::add_row(s, tag + "shade (irradiance: exp + product + dot)", "ns", per_input("BM_Shade" + b),
               per_input(exp_key), pb::Goal::none(), shade * ns_per_fma,
               "baseline: the exponential alone; floor: " + fmt("%.0f", shade) + " ops");
+  bb::add_row(s, tag + "exponential, 8 lanes (exp_visibility_batch)", "ns",
+              per_input("BM_ExpBatch" + b), per_input(exp_key), pb::Goal::none(),
+              exp * ns_per_fma / sh::kBatch,
+              "baseline: exp_visibility (scalar), same sums; floor: the scalar one / 8 lanes");
+  bb::add_row(s, tag + "shade, 8 lanes (irradiance_batch)", "ns", per_input("BM_ShadeBatch" + b),
+              per_input("BM_Shade" + b), pb::Goal::none(), shade * ns_per_fma / sh::kBatch,
+              "baseline: shade (scalar irradiance), same sums; floor: the scalar one / 8 lanes");
 }
 
 pb::Summary summarize(const pb::Results& r, const bb::Outputs& out) {
