@@ -109,7 +109,8 @@ std::string chart_svg(const ChartSpec& spec, const std::vector<ChartPoint>& pts)
     const double g = *spec.goal_ms;
     o << "<line x1=\"" << X(g) << "\" y1=\"" << top << "\" x2=\"" << X(g) << "\" y2=\"" << top + ph
       << "\" stroke=\"#c33\" stroke-dasharray=\"6 4\"/>\n<text x=\"" << X(g) + 4 << "\" y=\""
-      << top + 14 << "\" fill=\"#c33\">" << svg_escape(spec.goal_label) << "</text>\n";
+      << (spec.goal_label_low ? top + ph - 6 : top + 14) << "\" fill=\"#c33\">"
+      << svg_escape(spec.goal_label) << "</text>\n";
   }
   o << "<text x=\"" << left + pw / 2 << "\" y=\"" << H - 24 << "\" text-anchor=\"middle\">"
     << svg_escape(spec.x_label) << "</text>\n"
@@ -174,7 +175,10 @@ std::string chart_svg(const ChartSpec& spec, const std::vector<ChartPoint>& pts)
       label += e.str();
     }
     const double w = 6.0 * label.size(), h = 10;
-    const double spots[6][2] = {{7, -4}, {7, 13}, {-7 - w, -4}, {-7 - w, 13}, {8, 4}, {-8 - w, 4}};
+    // Points on the top edge (above error_limit) try below first.
+    const double first_dy = above(p) ? 13 : -4, second_dy = above(p) ? -4 : 13;
+    const double spots[6][2] = {{7, first_dy}, {7, second_dy}, {-7 - w, -4},
+                                {-7 - w, 13},  {8, 4},         {-8 - w, 4}};
     Box chosen{};
     for (int k = 0; k < 6; ++k) {
       const Box b{x + spots[k][0], y + spots[k][1] - h, x + spots[k][0] + w, y + spots[k][1]};

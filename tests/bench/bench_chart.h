@@ -29,7 +29,8 @@ struct ChartSpec {
   // The error axis ends here (percent) when some point is above it: those points are drawn
   // hollow on the top edge, their error after the label.
   std::optional<double> error_limit;
-  std::string goal_label;  // its text
+  std::string goal_label;       // its text
+  bool goal_label_low = false;  // the text at the bottom of the line instead of the top
   std::string empty_text = "no points with a reference error in this run";
   std::string legend_title = "method";
   std::string front_note = "dashed grey: Pareto front";

@@ -247,6 +247,7 @@ std::string chart_svg(const std::vector<Record>& records,
     char goal[96];
     std::snprintf(goal, sizeof goal, "goal 30 ms per 100k receivers: %.1f ms", *spec.goal_ms);
     spec.goal_label = goal;
+    spec.goal_label_low = true;
   }
   spec.empty_text = "no sweep points in this run";
   spec.legend_title = "scene, method";
