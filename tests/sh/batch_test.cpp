@@ -253,6 +253,25 @@ TEST(ShBatch, IrradianceMatchesScalarWithATail) {
   irradiance_matches<4>(0);
 }
 
+// The depth limit's evaluations: one vector at many directions, counts around a batch.
+TEST(ShBatch, EvaluateMatchesScalarWithATail) {
+  std::mt19937 rng(23);
+  float worst = 0;
+  for (const std::size_t count : {0u, 1u, 7u, 8u, 9u, 17u, 64u}) {
+    const Coeffs<4> f = test::random_coeffs<4>(rng, 2.0f);
+    std::vector<glm::vec3> dirs;
+    for (std::size_t i = 0; i < count; ++i) dirs.push_back(test::random_direction(rng));
+    std::vector<float> out(count, -1.0f);
+    evaluate_batch<4>(f, dirs, out);
+    for (std::size_t i = 0; i < count; ++i) {
+      const float want = evaluate<4>(f, dirs[i]);
+      worst = std::max(worst, std::fabs(out[i] - want) / std::max(std::fabs(want), 1e-3f));
+    }
+  }
+  std::printf("evaluate_batch: worst difference %.3g\n", worst);
+  EXPECT_LE(worst, kTol);
+}
+
 TEST(ShBatch, SizeMismatchThrows) {
   std::vector<Coeffs<4>> logs(9), vis(8);
   std::vector<glm::vec3> normals(9), e(9);
@@ -260,6 +279,8 @@ TEST(ShBatch, SizeMismatchThrows) {
                std::invalid_argument);
   EXPECT_THROW(exp_visibility_batch<4>(std::span<const Coeffs<4>>(logs), std::span<Coeffs<4>>(vis)),
                std::invalid_argument);
+  std::vector<float> values(8);
+  EXPECT_THROW(evaluate_batch<4>(Coeffs<4>{}, normals, values), std::invalid_argument);
 }
 
 }  // namespace

@@ -227,6 +227,26 @@ void shade_zh_batch(const CoeffsRgb<N>& radiance, const Zonal<N>& lobe, const Co
 }
 
 template <int N>
+void evaluate_batch(const Coeffs<N>& f, std::span<const glm::vec3> dirs, std::span<float> out) {
+  check_sizes<N>(dirs.size(), out.size(), out.size(), 0, "evaluate_batch");
+  for (std::size_t first = 0; first < dirs.size(); first += kBatch) {
+    const int lanes = static_cast<int>(std::min<std::size_t>(kBatch, dirs.size() - first));
+    DirBatch d;
+    for (int l = 0; l < kBatch; ++l) d.set(l, l < lanes ? dirs[first + l] : glm::vec3(0, 0, 1));
+    Lanes x, y, z, basis[N * N];
+    std::memcpy(&x, d.x, sizeof x);
+    std::memcpy(&y, d.y, sizeof y);
+    std::memcpy(&z, d.z, sizeof z);
+    basis_lanes<N>(x, y, z, basis);
+    Lanes s{};
+    for (int i = 0; i < N * N; ++i) s += f[i] * basis[i];  // as sh::evaluate
+    alignas(32) float v[kBatch];
+    std::memcpy(v, &s, sizeof v);
+    for (int l = 0; l < lanes; ++l) out[first + l] = v[l];
+  }
+}
+
+template <int N>
 void exp_visibility_batch(std::span<const Coeffs<N>> log_visibility, std::span<Coeffs<N>> out) {
   check_sizes<N>(log_visibility.size(), out.size(), out.size(), 0, "exp_visibility_batch");
   CoeffsBatch<N> in{}, v;
@@ -264,16 +284,17 @@ void irradiance_batch(const CoeffsRgb<N>& radiance, const Zonal<N>& lobe,
   }
 }
 
-#define PENUMBRA_BATCH_INSTANTIATE(N)                                                            \
-  template void exp_hyb_batch<N>(const CoeffsBatch<N>&, CoeffsBatch<N>&, float);                 \
-  template void exp_visibility_batch<N>(const CoeffsBatch<N>&, CoeffsBatch<N>&);                 \
-  template void product_batch<N>(const CoeffsBatch<N>&, const CoeffsBatch<N>&, CoeffsBatch<N>&); \
-  template void rotate_zh_batch<N>(const Zonal<N>&, const DirBatch&, CoeffsBatch<N>&);           \
-  template void shade_zh_batch<N>(const CoeffsRgb<N>&, const Zonal<N>&, const CoeffsBatch<N>&,   \
-                                  const DirBatch&, float(&)[3][kBatch]);                         \
-  template void exp_visibility_batch<N>(std::span<const Coeffs<N>>, std::span<Coeffs<N>>);       \
-  template void irradiance_batch<N>(const CoeffsRgb<N>&, const Zonal<N>&,                        \
-                                    std::span<const Coeffs<N>>, std::span<const glm::vec3>,      \
+#define PENUMBRA_BATCH_INSTANTIATE(N)                                                              \
+  template void exp_hyb_batch<N>(const CoeffsBatch<N>&, CoeffsBatch<N>&, float);                   \
+  template void exp_visibility_batch<N>(const CoeffsBatch<N>&, CoeffsBatch<N>&);                   \
+  template void product_batch<N>(const CoeffsBatch<N>&, const CoeffsBatch<N>&, CoeffsBatch<N>&);   \
+  template void rotate_zh_batch<N>(const Zonal<N>&, const DirBatch&, CoeffsBatch<N>&);             \
+  template void shade_zh_batch<N>(const CoeffsRgb<N>&, const Zonal<N>&, const CoeffsBatch<N>&,     \
+                                  const DirBatch&, float(&)[3][kBatch]);                           \
+  template void evaluate_batch<N>(const Coeffs<N>&, std::span<const glm::vec3>, std::span<float>); \
+  template void exp_visibility_batch<N>(std::span<const Coeffs<N>>, std::span<Coeffs<N>>);         \
+  template void irradiance_batch<N>(const CoeffsRgb<N>&, const Zonal<N>&,                          \
+                                    std::span<const Coeffs<N>>, std::span<const glm::vec3>,        \
                                     std::span<glm::vec3>, std::span<Coeffs<N>>);
 PENUMBRA_BATCH_INSTANTIATE(2)
 PENUMBRA_BATCH_INSTANTIATE(3)

@@ -270,9 +270,11 @@ sh::Coeffs<N> BlockerAccumulation<N>::log_visibility(const glm::vec3& p, const g
   const float max_depth = settings_.blocker.max_depth;
   if (!(max_depth > 0) || c.weight <= max_depth) return sum;  // cannot be that deep
   if (counts) counts->depth_evaluations += static_cast<std::size_t>(c.count);
-  float deepest = 0;  // in units of log eps (positive)
-  for (int k = 0; k < c.count; ++k)
-    deepest = std::max(deepest, sh::evaluate<N>(sum, c.axes[k]) / log_eps_);
+  float deepest = 0;                 // in units of log eps (positive)
+  float at[Contributors::kMaxAxes];  // the sum at each axis, eight axes per step
+  sh::evaluate_batch<N>(sum, std::span<const glm::vec3>(c.axes, static_cast<std::size_t>(c.count)),
+                        std::span<float>(at, static_cast<std::size_t>(c.count)));
+  for (int k = 0; k < c.count; ++k) deepest = std::max(deepest, at[k] / log_eps_);
   if (deepest > max_depth) {
     const float scale = max_depth / deepest;
     for (float& x : sum) x *= scale;

@@ -269,6 +269,7 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       for (int i = 0; i < N * N; ++i) v += far[i] * y[i];
       far_deepest = std::max(far_deepest, v / log_eps);
     }
+    constexpr int kMaxAxes = 64;  // near axes per receiver the depth limit looks at
     // The depth limit of BlockerAccumulation::log_visibility over the far axes and `axes`.
     const auto depth_limit = [&](sh::Coeffs<N>& sum, float weight, const glm::vec3* axes, int count,
                                  float near_weight) {
@@ -281,8 +282,10 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         for (int i = 0; i < N * N; ++i) v += sum[i] * y[i];
         deepest = std::max(deepest, v / log_eps);
       }
-      for (int k = 0; k < count; ++k)
-        deepest = std::max(deepest, sh::evaluate<N>(sum, axes[k]) / log_eps);
+      float at[kMaxAxes];  // the sum at each near axis, eight axes per step
+      sh::evaluate_batch<N>(sum, std::span<const glm::vec3>(axes, static_cast<std::size_t>(count)),
+                            std::span<float>(at, static_cast<std::size_t>(count)));
+      for (int k = 0; k < count; ++k) deepest = std::max(deepest, at[k] / log_eps);
       cnt.depth_evaluations += static_cast<std::size_t>((far_too ? far_axes : 0) + count);
       if (deepest > max_depth) {
         const float scale = max_depth / deepest;
@@ -323,7 +326,6 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       lanes = 0;
     };
 
-    constexpr int kMaxAxes = 64;
     for (std::uint32_t k = cl.first; k < cl.first + cl.count; ++k) {
       const glm::vec3& p = points_[k];
       const glm::vec3& n = normals_[k];

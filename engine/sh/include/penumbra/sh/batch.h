@@ -75,6 +75,12 @@ template <int N>
 void shade_zh_batch(const CoeffsRgb<N>& radiance, const Zonal<N>& lobe, const CoeffsBatch<N>& v,
                     const DirBatch& normal, float (&e)[3][kBatch]);
 
+// out[k] = evaluate<N>(f, dirs[k]) (basis.h) for any number of unit directions, eight per step:
+// the depth limit's evaluations of a receiver's sum at its blockers' axes. `out` has the size
+// of `dirs` (else std::invalid_argument).
+template <int N>
+void evaluate_batch(const Coeffs<N>& f, std::span<const glm::vec3> dirs, std::span<float> out);
+
 // Any number of receivers (array of structures in and out; a last partial batch is padded with
 // zero lanes): v = exp_visibility(log_v), and the irradiance per receiver as shade_zh_batch.
 // `visibility` may be empty (not wanted); else it has one entry per receiver, as `irradiance`
