@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "bench_chart.h"
+#include "bench_json.h"
 #include "blocker_bench.h"
 #include "penumbra/systems/blocker_accumulation/receiver_clusters.h"
 
@@ -45,20 +46,10 @@ struct Record {
 };
 
 std::string jnum(std::optional<double> v, int precision = 6) {
-  if (!v || !std::isfinite(*v)) return "null";
-  std::ostringstream o;
-  o.precision(precision);
-  o << *v;
-  return o.str();
+  return bench_json::number(v, precision);
 }
-
 std::string jstr(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
+  return bench_json::string(s);
 }
 
 std::string number(double v) {

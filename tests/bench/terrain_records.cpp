@@ -7,25 +7,16 @@
 #include <thread>
 
 #include "bench_chart.h"
+#include "bench_json.h"
 
 namespace penumbra::terrain_bench {
 namespace {
 
 std::string jnum(std::optional<double> v, int precision = 6) {
-  if (!v || !std::isfinite(*v)) return "null";
-  std::ostringstream o;
-  o.precision(precision);
-  o << *v;
-  return o.str();
+  return bench_json::number(v, precision);
 }
-
 std::string jstr(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
-  }
-  return out + "\"";
+  return bench_json::string(s);
 }
 
 // 1-minute load average (other processes make the 2-thread timings slower), if available.

@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "input_checks.h"
 #include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
@@ -18,13 +19,8 @@
 namespace penumbra::blocker_accumulation {
 namespace {
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-std::string str(const glm::vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
-}
+using detail::finite;
+using detail::str;
 
 }  // namespace
 
