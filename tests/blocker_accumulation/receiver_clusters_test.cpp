@@ -347,6 +347,32 @@ Seams seams(const ReceiverClusters<N>& rc, const Receivers& r, const std::vector
   return s;
 }
 
+// The clusters take the blockers' log as the settings say: with [Ren06]'s clipped eigenvalue
+// log (SphereBlockerSettings::log) they follow the per-receiver path as closely as with the eps
+// cap, and differ from the eps cap's clusters.
+TEST(ReceiverClusters, FollowTheClippedEigenLog) {
+  const Receivers r = ground(60, 60);
+  const sh::CoeffsRgb<N> sky = tilted_sky();
+  ReceiverClusters<N> rc;
+  rc.set_receivers(r.points, r.normals);
+  const Scene scene = scattered(60, 60, 11);
+  BlockerSettings ren;
+  ren.blocker.log = BlockerLog::kClippedEigen;
+  BlockerAccumulation<N> acc(ren), cap;
+  acc.set_blockers(scene.spheres, scene.groups);
+  cap.set_blockers(scene.spheres, scene.groups);
+  const std::vector<glm::vec3> e = clustered(rc, acc, sky, nullptr);
+  const Error vs_receiver = compare(e, per_receiver(acc, sky, r));
+  const Error vs_cap = compare(e, clustered(rc, cap, sky, nullptr));
+  std::printf(
+      "clipped log: clusters vs per receiver rel RMS %.3f%% max %.3f%%; vs the eps cap's "
+      "clusters %.3f%%\n",
+      100 * vs_receiver.rel_rms, 100 * vs_receiver.max_rel, 100 * vs_cap.rel_rms);
+  EXPECT_LT(vs_receiver.rel_rms, 0.005);
+  EXPECT_LT(vs_receiver.max_rel, 0.03);
+  EXPECT_GT(vs_cap.rel_rms, 0.001);  // a different log, not the eps cap again
+}
+
 TEST(ReceiverClusters, NoSeamsBetweenClusters) {
   const Receivers r = ground(120, 120);  // 1 m apart
   const sh::CoeffsRgb<N> sky = uniform_sky();

@@ -203,10 +203,10 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
           const BlockerView v = centre_view(acc.spheres_[k], set.blocker);
           if (!(v.weight > 0)) continue;
-          add_log_visibility<N>(v, log_eps, far);
+          const float depth = acc.add_blocker_log(v, far);
           ++cnt.centre_adds;
           far_spheres.push_back(k);
-          w += v.weight;
+          w += v.weight * depth;
           if (g.count == 1) axis = v.axis;
         }
         if (w > 0) {
@@ -222,9 +222,9 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       if (settings_.band_ratio && cut && g.count > 1 && d > r) {
         // Per band, the scale that best maps the bound's log-SH onto its spheres' at x_C.
         sh::Coeffs<N> bound{}, children{};
-        add_log_visibility<N>(centre_view(g.bound, unfaded), log_eps, bound);
+        acc.add_blocker_log(centre_view(g.bound, unfaded), bound);
         for (std::uint32_t k = g.first; k < g.first + g.count; ++k)
-          add_log_visibility<N>(centre_view(acc.spheres_[k], unfaded), log_eps, children);
+          acc.add_blocker_log(centre_view(acc.spheres_[k], unfaded), children);
         e.has_ratio = true;
         for (int l = 0; l < N; ++l) {
           double bb = 0, cb = 0;
@@ -249,9 +249,9 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         for (const std::uint32_t k : far_spheres) {
           const WorldSphere& sp = acc.spheres_[k];
           ++cnt.centre_views;
-          add_log_visibility<N>(
+          acc.add_blocker_log(
               view_blocker(x, glm::normalize(sp.centre - x), sp.centre, sp.radius, set.blocker),
-              log_eps, at);
+              at);
         }
         for (int i = 0; i < N * N; ++i) far_gradient[a][i] = (at[i] - far[i]) / h;
       }
@@ -335,18 +335,19 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         ++cnt.receiver_views;
         v.weight *= scale;
         if (!(v.weight > 0)) return;
+        float depth = 1;
         if (ratio) {
           sh::Coeffs<N> one{};
-          add_log_visibility<N>(v, log_eps, one);
+          depth = acc.add_blocker_log(v, one);
           for (int l = 0; l < N; ++l)
             for (int m = -l; m <= l; ++m)
               sum[sh::index(l, m)] += (*ratio)[l] * one[sh::index(l, m)];
           v.weight *= (*ratio)[0];
         } else {
-          add_log_visibility<N>(v, log_eps, sum);
+          depth = acc.add_blocker_log(v, sum);
         }
         ++adds;
-        weight += v.weight;
+        weight += v.weight * depth;
         if (axis_count < kMaxAxes) axes[axis_count++] = v.axis;
       };
       for (const Near& e : near) {  // as BlockerAccumulation::accumulate
