@@ -61,8 +61,11 @@ TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
   constexpr float kY00 = 0.28209479f;
   constexpr float kNegligibleLog = 0.01f;  // about 1% of the visibility, averaged
   std::atomic<std::size_t> reached{0}, changed{0};
+  const auto recomputed = [&](int y) {  // a lattice row of this call's phase
+    return on_lattice(y, f.height) && (y / stride) % period == phase % period;
+  };
   tbb::parallel_for(0, f.height, [&](int y) {
-    if (!on_lattice(y, f.height) || ((y / stride) % period) != phase % period) return;
+    if (!recomputed(y)) return;
     std::size_t row_reached = 0, row_changed = 0;
     for (int x = 0; x < f.width; ++x) {
       if (!on_lattice(x, f.width)) continue;
@@ -108,6 +111,7 @@ TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
       int y0, y1;
       float ay;
       bracket(y, f.height, y0, y1, ay);
+      if (!recomputed(y0) && !recomputed(y1)) return;  // its lattice rows kept their values
       const glm::vec3* r0 = &ratio[static_cast<std::size_t>(y0) * f.width];
       const glm::vec3* r1 = &ratio[static_cast<std::size_t>(y1) * f.width];
       glm::vec3* out = &ratio[static_cast<std::size_t>(y) * f.width];

@@ -50,7 +50,8 @@ terrain_shadow::TexelRect reached_texels(const TerrainReceivers& t, const WorldS
 // Shaded on the lattice of every `stride`-th texel along x and y (and the last row and column),
 // the texels between bilinear in the lattice's ratios; of the lattice rows, those with
 // (y / stride) % period == phase are recomputed and the others keep their values (spreading the
-// work over `period` frames). `ratio` is reset to 1 when its size is not the field's.
+// work over `period` frames; only the texels between recomputed lattice rows are interpolated
+// again). `ratio` is reset to 1 when its size is not the field's.
 template <int N>
 TerrainShadeStats update_terrain_ratios(const TerrainReceivers& t,
                                         const BlockerAccumulation<N>& blockers,
