@@ -17,20 +17,14 @@
 #include "penumbra/reference/scene.h"
 #include "penumbra/sh/projection.h"
 #include "penumbra/sh/rotation.h"
+#include "test_skies.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
 
 constexpr int N = 4;
 
-data::EnvironmentMap uniform_sky() {
-  data::EnvironmentMap m;
-  m.width = 64;
-  m.height = 32;
-  m.rgb.assign(static_cast<std::size_t>(m.width) * m.height * 3, 1.0f);
-  m.source = "uniform";
-  return m;
-}
+using test::uniform_sky;
 
 data::EnvironmentMap sky_map() {
   return assets::load_environment_map(std::filesystem::path(PENUMBRA_SHARED_DATA) / "hdri" /

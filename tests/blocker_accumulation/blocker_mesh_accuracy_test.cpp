@@ -37,6 +37,7 @@
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "test_skies.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -44,14 +45,7 @@ namespace {
 const std::filesystem::path kData = PENUMBRA_SHARED_DATA;
 constexpr int kSamples = 2048;  // reference directions per receiver
 
-data::EnvironmentMap uniform_sky() {
-  data::EnvironmentMap m;
-  m.width = 64;
-  m.height = 32;
-  m.rgb.assign(static_cast<std::size_t>(m.width) * m.height * 3, 1.0f);
-  m.source = "uniform";
-  return m;
-}
+using test::uniform_sky;
 
 // The HDR map: sky.exr (a clear sky with its sun), or the file of ../shared/data/hdri that
 // PENUMBRA_ACCURACY_SKY names (forest.exr, dawn.exr: docs/blocker_accuracy.md).
