@@ -14,6 +14,8 @@
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/mesh.h"
+#include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/sphere_set.h"
 #include "penumbra/components/spherical_light.h"
@@ -79,6 +81,34 @@ TEST(TerrainDemo, SkyLightAndEditsDriveTheShadowSystem) {
     EXPECT_EQ(t.height_scale, 2.0f);
     EXPECT_FLOAT_EQ(packet.terrain.heights->at(5, 7), t.height_scale * t.heights->at(5, 7));
   });
+}
+
+// The boulders are drawn and shaded from simplified meshes (BoulderConfig::simplify_error): a
+// tenth of the triangles at most, their vertices the receivers; 0 keeps the full meshes.
+TEST(TerrainDemo, BouldersUseSimplifiedMeshesUnlessAskedNotTo) {
+  const auto triangles = [](float simplify_error) {
+    ecs::World world;
+    TerrainDemoConfig config;
+    config.terrain_size = 65;
+    config.edit_interval = 0;
+    config.boulders.count = 3;  // bunny, bunny, Suzanne
+    config.boulders.spheres = 8;
+    config.boulders.simplify_error = simplify_error;
+    config.boulders.cache_dir =
+        (std::filesystem::temp_directory_path() / "penumbra_boulders_test").string();
+    populate_terrain_demo(world, config);
+    std::size_t n = 0;
+    world.query<const Boulder, const components::MeshInstance, const components::Receiver>().each(
+        [&](const Boulder&, const components::MeshInstance& m, const components::Receiver& r) {
+          n += m.mesh->indices.size() / 3;
+          EXPECT_EQ(r.points->size(), m.mesh->positions.size());  // its vertices receive
+        });
+    return n;
+  };
+  const std::size_t full = triangles(0.0f), simplified = triangles(0.01f);
+  EXPECT_EQ(full, 2u * 5648 + 14842);          // bunny 5,648, Suzanne 14,842 triangles
+  EXPECT_LE(simplified, full / 10 + 2 * 100);  // the bunny stops at its error bound (636)
+  EXPECT_GT(simplified, 0u);
 }
 
 // The rolling boulders: fitted sphere sets (cached as sphere files), rolling on the ground,
