@@ -1,15 +1,11 @@
 #include "penumbra/assets/sphere_file.h"
 
-#include <unistd.h>
-
 #include <bit>
-#include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
-#include <memory>
 #include <stdexcept>
 
+#include "byte_io.h"
 #include "file_io.h"
 #include "penumbra/assets/load_error.h"
 
@@ -21,32 +17,9 @@ constexpr std::size_t kHeaderBytes = 36;  // up to and including the name length
 constexpr std::size_t kSphereBytes = 20;
 constexpr std::size_t kChecksumBytes = 8;
 
-// Little-endian writes into a buffer sized up front.
-struct Writer {
-  std::vector<unsigned char>& out;
-  std::size_t at = 0;
-  void u32(std::uint32_t v) {
-    for (int i = 0; i < 4; ++i) out[at++] = static_cast<unsigned char>(v >> (8 * i));
-  }
-  void u64(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) out[at++] = static_cast<unsigned char>(v >> (8 * i));
-  }
-  void bytes(const void* p, std::size_t n) {
-    if (n > 0) std::memcpy(out.data() + at, p, n);
-    at += n;
-  }
-};
-
-std::uint32_t get_u32(const unsigned char* p) {
-  std::uint32_t v = 0;
-  for (int i = 0; i < 4; ++i) v |= std::uint32_t{p[i]} << (8 * i);
-  return v;
-}
-std::uint64_t get_u64(const unsigned char* p) {
-  std::uint64_t v = 0;
-  for (int i = 0; i < 8; ++i) v |= std::uint64_t{p[i]} << (8 * i);
-  return v;
-}
+using detail::ByteWriter;
+using detail::get_u32;
+using detail::get_u64;
 
 // Everything both the writer and the reader require of the contents; "" when valid.
 std::string problem(const SphereSetFile& set) {
@@ -106,21 +79,12 @@ const char* sphere_fit_method_name(SphereFitMethod method) {
   return "unknown";
 }
 
-std::uint64_t fnv1a64(std::span<const unsigned char> bytes) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (unsigned char b : bytes) {
-    h ^= b;
-    h *= 0x100000001b3ull;
-  }
-  return h;
-}
-
 std::vector<unsigned char> encode_sphere_file(const SphereSetFile& set) {
   if (const std::string p = problem(set); !p.empty())
     throw std::invalid_argument("sphere file: " + p);
   std::vector<unsigned char> out(kHeaderBytes + set.source_model.size() +
                                  kSphereBytes * set.spheres.size() + kChecksumBytes);
-  Writer w{out};
+  ByteWriter w{out};
   w.bytes(kMagic, 4);
   w.u32(kSphereFileVersion);
   w.u32(static_cast<std::uint32_t>(set.spheres.size()));
@@ -191,20 +155,7 @@ SphereSetFile load_sphere_file(const std::filesystem::path& path) {
 }
 
 void write_sphere_file(const std::filesystem::path& path, const SphereSetFile& set) {
-  const std::vector<unsigned char> bytes = encode_sphere_file(set);
-  // Same folder as the target, so the rename never crosses file systems (as write_png does).
-  const std::string tmp = path.string() + ".tmp." + std::to_string(::getpid());
-  const auto fail = [&](const std::string& what, int err) {
-    std::remove(tmp.c_str());
-    throw std::runtime_error(path.string() + ": " + what + " (" + std::strerror(err) + ")");
-  };
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (f == nullptr) fail("cannot create " + tmp, errno);
-  const bool written = std::fwrite(bytes.data(), 1, bytes.size(), f) == bytes.size() &&
-                       std::fflush(f) == 0 && ::fsync(::fileno(f)) == 0;
-  const int write_errno = errno;
-  if (std::fclose(f) != 0 || !written) fail("cannot write " + tmp, written ? errno : write_errno);
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp, errno);
+  detail::write_file_atomic(path, encode_sphere_file(set));
 }
 
 }  // namespace penumbra::assets

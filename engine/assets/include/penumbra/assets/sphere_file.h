@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "penumbra/assets/checksum.h"  // fnv1a64, the file's checksum
 #include "penumbra/data/sphere_set.h"
 
 namespace penumbra::assets {
@@ -64,8 +65,5 @@ SphereSetFile load_sphere_file(const std::filesystem::path& path);
 // Atomic write (see above). Throws std::invalid_argument on bad data, std::runtime_error
 // naming the file when it cannot be written; on failure no temporary file is left behind.
 void write_sphere_file(const std::filesystem::path& path, const SphereSetFile& set);
-
-// FNV-1a 64 (offset basis 0xcbf29ce484222325, prime 0x100000001b3), the file's checksum.
-std::uint64_t fnv1a64(std::span<const unsigned char> bytes);
 
 }  // namespace penumbra::assets
