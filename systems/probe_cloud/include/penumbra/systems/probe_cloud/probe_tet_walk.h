@@ -1,0 +1,135 @@
+// Point location in a probe cloud (data/probe_cloud.h) and the interpolation of its probes' SH.
+// No ECS here: the traversal system (probe_systems.h), the tests and the benchmarks drive it.
+//
+// The walk ([Sukys14] sec. 3.2, "Traversal"): from a start cell (an entity's cached cell), take
+// the cell's weights at p (cell_weights.h); when all are >= -kInsideTolerance p is in the cell,
+// else step to the neighbour across the face of the most negative weight. Outside the hull the
+// walk enters the outer cells ([Cupisz12]) and ends in one of them. Guards:
+//  - a visited check: a step into a cell already on this walk's path (a cycle, from float
+//    round-off near degenerate faces) takes the next most negative face instead; when every
+//    negative face leads back, the walk ends in the visited cell that came closest to holding p
+//    (largest smallest weight) and its clamped weights;
+//  - a step cap (ProbeWalkSettings::max_steps): past it, the fallback locate runs;
+//  - the fallback locate also runs when the start is invalid (-1, out of range) or, p not being in
+//    the start cell, p is farther than ProbeWalkSettings::far_cells grid cells from every vertex
+//    of the start cell (a teleport; inner and outer start cells alike):
+//    a uniform grid over the inner cells' bounding boxes (ProbeCellGrid, built once per cloud)
+//    gives an inner tetrahedron near p (p clamped into the grid), and the walk goes on from there
+//    with a cap of max(4 * max_steps, 1024); should that fail too, every cell is tested
+//    (linear, never seen in the tests).
+// A start cell from another cloud that is in range cannot be told apart here: it only costs
+// steps (the far check or the cap sends it to the fallback). The system keeps the cloud's
+// generation beside each cached cell for that (probe_systems.h).
+//
+// A weight within 1e-6 of 1, or p equal to a probe's position, gives that probe weight 1 exactly
+// (interpolation at a probe returns its SH bit for bit).
+//
+// Clouds without cells (0-3 probes, or all coplanar/collinear: inner_count == 0): the nearest
+// probe, weight 1 (a linear search over the probes); 0 probes: no probe, zero SH. Result::cell
+// is then -1 and Result::fallback true.
+//
+// Non-finite p: locate() throws std::invalid_argument (the system checks first and names the
+// entity). Threading: a ProbeTetWalk is immutable after construction; locate() and the
+// interpolation functions are const and pure, safe from any number of threads.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "penumbra/data/probe_cloud.h"
+#include "penumbra/sh/basis.h"
+
+namespace penumbra::probe_cloud {
+
+inline constexpr std::int32_t kNoCell = -1;
+// A weight >= -kInsideTolerance counts as inside (p on a face, edge or vertex within round-off).
+inline constexpr float kInsideTolerance = 1e-5f;
+// Interpolated SH are returned with 4 bands (16 coefficients per channel), zero-padded past the
+// cloud's bands (the coefficient index l(l+1)+m does not depend on the band count).
+inline constexpr int kProbeShBands = data::kProbeMaxBands;
+using ProbeSh = sh::CoeffsRgb<kProbeShBands>;
+
+struct ProbeWalkSettings {
+  int max_steps = 64;      // steps of the walk from the start cell before the fallback locate
+  float far_cells = 4.0f;  // a start cell farther than this many grid cells: fallback at once
+};
+
+struct ProbeWalkResult {
+  std::int32_t cell = kNoCell;  // the cell holding p; -1 for a cloud without cells
+  std::array<std::int32_t, 4> probes{-1, -1, -1, -1};  // probe of each weight (-1: none)
+  std::array<float, 4> weights{};                      // convex: >= 0, sum 1 (all 0 for 0 probes)
+  int steps = 0;          // cells stepped across, the fallback's included
+  bool fallback = false;  // the fallback locate ran (or no cells)
+};
+
+// Uniform grid over the inner tetrahedra's bounding boxes: per grid cell, an inner tetrahedron
+// near its centre (of those whose box overlaps it, the one whose centroid is nearest; empty grid
+// cells take a neighbour's). About two tetrahedra per grid cell, at most 2^21 grid cells.
+class ProbeCellGrid {
+ public:
+  ProbeCellGrid() = default;
+  explicit ProbeCellGrid(const data::ProbeCloud& cloud);
+
+  bool empty() const { return start_.empty(); }
+  // An inner tetrahedron near p (p clamped into the grid's box); -1 when the cloud has none.
+  std::int32_t start_cell(const glm::vec3& p) const;
+  float cell_size() const { return cell_size_; }  // the largest edge of a grid cell, metres
+  std::array<int, 3> resolution() const { return {nx_, ny_, nz_}; }
+
+ private:
+  glm::vec3 origin_{0.0f}, inv_size_{0.0f};
+  float cell_size_ = 0;
+  int nx_ = 0, ny_ = 0, nz_ = 0;
+  std::vector<std::int32_t> start_;
+};
+
+class ProbeTetWalk {
+ public:
+  // Throws std::invalid_argument naming the field when the cloud's sizes or indices are
+  // inconsistent (sh, transforms, inner_count, a probe or neighbour index out of range).
+  explicit ProbeTetWalk(std::shared_ptr<const data::ProbeCloud> cloud,
+                        const ProbeWalkSettings& settings = {});
+
+  const data::ProbeCloud& cloud() const { return *cloud_; }
+  const std::shared_ptr<const data::ProbeCloud>& cloud_ptr() const { return cloud_; }
+  const ProbeWalkSettings& settings() const { return settings_; }
+  const ProbeCellGrid& grid() const { return grid_; }
+
+  // The cell holding p, walking from `start` (-1: none). `path`, when given, receives the
+  // cells visited in order (the start and the final cell included).
+  ProbeWalkResult locate(const glm::vec3& p, std::int32_t start,
+                         std::vector<std::int32_t>* path = nullptr) const;
+
+  // The four probes' SH weighted by the result's weights.
+  ProbeSh interpolate(const ProbeWalkResult& r) const;
+
+  // locate + interpolate for many points: cells[i] is the start on entry and the found cell on
+  // return; out[i] the SH. Spans of equal size (std::invalid_argument otherwise). Returns the
+  // number of points that needed the fallback. Pure over disjoint spans: call it from several
+  // threads on separate slices.
+  std::size_t locate_batch(std::span<const glm::vec3> points, std::span<std::int32_t> cells,
+                           std::span<ProbeSh> out) const;
+
+ private:
+  ProbeWalkResult walk(const glm::vec3& p, std::int32_t start, int cap, float far2, bool& done,
+                       std::vector<std::int32_t>* path) const;
+  ProbeWalkResult brute_force(const glm::vec3& p) const;
+  ProbeWalkResult no_cells(const glm::vec3& p) const;
+
+  std::shared_ptr<const data::ProbeCloud> cloud_;
+  ProbeWalkSettings settings_;
+  ProbeCellGrid grid_;
+};
+
+// The SH of `probes` weighted by `weights` (probe -1 or weight 0 skipped), 4 bands zero-padded.
+ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
+                             const std::array<std::int32_t, 4>& probes,
+                             const std::array<float, 4>& weights);
+
+}  // namespace penumbra::probe_cloud

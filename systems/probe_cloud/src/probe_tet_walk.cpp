@@ -1,0 +1,395 @@
+#include "penumbra/systems/probe_cloud/probe_tet_walk.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "penumbra/systems/probe_cloud/cell_weights.h"
+
+namespace penumbra::probe_cloud {
+namespace {
+
+constexpr std::size_t kMaxGridCells = std::size_t{1} << 21;
+constexpr float kVertexSnap = 1e-6f;  // a weight this close to 1 is that probe exactly
+
+bool finite(const glm::vec3& p) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+}
+
+std::string vec_str(const glm::vec3& p) {
+  return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")";
+}
+
+float min_weight(const std::array<float, 4>& w) {
+  return std::min(std::min(w[0], w[1]), std::min(w[2], w[3]));
+}
+
+bool any_nan(const std::array<float, 4>& w) {
+  return std::isnan(w[0]) || std::isnan(w[1]) || std::isnan(w[2]) || std::isnan(w[3]);
+}
+
+// The result for p in `cell` with its raw weights `w`: convex, snapped to a probe when p is on it.
+ProbeWalkResult finish(const data::ProbeCloud& cloud, std::int32_t cell,
+                       const std::array<float, 4>& w, const glm::vec3& p) {
+  ProbeWalkResult r;
+  r.cell = cell;
+  const data::ProbeCell& c = cloud.cells[static_cast<std::size_t>(cell)];
+  r.probes = c.vertices;  // an outer cell's vertices[3] is kOuterVertex (-1), its weight 0
+  r.weights = convex_weights(w);
+  if (c.outer()) r.weights[3] = 0;
+  for (int k = 0; k < 4; ++k)
+    if (r.weights[static_cast<std::size_t>(k)] >= 1.0f - kVertexSnap ||
+        (r.probes[static_cast<std::size_t>(k)] >= 0 &&
+         cloud.positions[static_cast<std::size_t>(r.probes[static_cast<std::size_t>(k)])] == p)) {
+      r.weights = {0, 0, 0, 0};
+      r.weights[static_cast<std::size_t>(k)] = 1.0f;
+      break;
+    }
+  return r;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+ProbeCellGrid::ProbeCellGrid(const data::ProbeCloud& cloud) {
+  const std::size_t inner = cloud.inner_count;
+  if (inner == 0) return;
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (std::size_t t = 0; t < inner; ++t)
+    for (std::int32_t v : cloud.cells[t].vertices) {
+      lo = glm::min(lo, cloud.positions[static_cast<std::size_t>(v)]);
+      hi = glm::max(hi, cloud.positions[static_cast<std::size_t>(v)]);
+    }
+  const glm::vec3 extent = hi - lo;
+  const float largest = std::max({extent.x, extent.y, extent.z});
+  const glm::vec3 e = glm::max(extent, glm::vec3(largest * 1e-3f));
+  const double target =
+      std::clamp<double>(static_cast<double>(inner) / 2.0, 1.0, static_cast<double>(kMaxGridCells));
+  float size = static_cast<float>(std::cbrt(double(e.x) * e.y * e.z / target));
+  auto count = [&](float ext) {
+    return std::clamp(static_cast<int>(std::ceil(ext / size)), 1, 1 << 11);
+  };
+  for (;;) {
+    nx_ = count(e.x);
+    ny_ = count(e.y);
+    nz_ = count(e.z);
+    if (std::size_t(nx_) * std::size_t(ny_) * std::size_t(nz_) <= kMaxGridCells) break;
+    size *= 1.25f;
+  }
+  origin_ = lo;
+  const glm::vec3 cell(extent.x / static_cast<float>(nx_), extent.y / static_cast<float>(ny_),
+                       extent.z / static_cast<float>(nz_));
+  cell_size_ = std::max({cell.x, cell.y, cell.z});
+  inv_size_ = glm::vec3(cell.x > 0 ? 1.0f / cell.x : 0.0f, cell.y > 0 ? 1.0f / cell.y : 0.0f,
+                        cell.z > 0 ? 1.0f / cell.z : 0.0f);
+  const std::size_t n = std::size_t(nx_) * std::size_t(ny_) * std::size_t(nz_);
+  start_.assign(n, kNoCell);
+  std::vector<float> best(n, std::numeric_limits<float>::max());
+  auto index_of = [&](float x, float o, float inv, int nmax) {
+    return std::clamp(static_cast<int>((x - o) * inv), 0, nmax - 1);
+  };
+  for (std::size_t t = 0; t < inner; ++t) {
+    glm::vec3 tlo(std::numeric_limits<float>::max()), thi(-std::numeric_limits<float>::max());
+    glm::vec3 centroid(0.0f);
+    for (std::int32_t v : cloud.cells[t].vertices) {
+      const glm::vec3& q = cloud.positions[static_cast<std::size_t>(v)];
+      tlo = glm::min(tlo, q);
+      thi = glm::max(thi, q);
+      centroid += 0.25f * q;
+    }
+    const int x0 = index_of(tlo.x, lo.x, inv_size_.x, nx_),
+              x1 = index_of(thi.x, lo.x, inv_size_.x, nx_);
+    const int y0 = index_of(tlo.y, lo.y, inv_size_.y, ny_),
+              y1 = index_of(thi.y, lo.y, inv_size_.y, ny_);
+    const int z0 = index_of(tlo.z, lo.z, inv_size_.z, nz_),
+              z1 = index_of(thi.z, lo.z, inv_size_.z, nz_);
+    for (int z = z0; z <= z1; ++z)
+      for (int y = y0; y <= y1; ++y)
+        for (int x = x0; x <= x1; ++x) {
+          const glm::vec3 centre = lo + (glm::vec3(x, y, z) + 0.5f) * cell;
+          const glm::vec3 d = centre - centroid;
+          const float d2 = glm::dot(d, d);
+          const std::size_t g =
+              (std::size_t(z) * std::size_t(ny_) + std::size_t(y)) * std::size_t(nx_) +
+              std::size_t(x);
+          if (d2 < best[g]) {
+            best[g] = d2;
+            start_[g] = static_cast<std::int32_t>(t);
+          }
+        }
+  }
+  // Grid cells no box overlaps (outside the hull) take a neighbour's tetrahedron (BFS).
+  std::vector<std::size_t> frontier, next;
+  for (std::size_t g = 0; g < n; ++g)
+    if (start_[g] != kNoCell) frontier.push_back(g);
+  while (!frontier.empty()) {
+    next.clear();
+    for (std::size_t g : frontier) {
+      const int x = static_cast<int>(g % std::size_t(nx_));
+      const int y = static_cast<int>((g / std::size_t(nx_)) % std::size_t(ny_));
+      const int z = static_cast<int>(g / (std::size_t(nx_) * std::size_t(ny_)));
+      const int nb[6][3] = {{x - 1, y, z}, {x + 1, y, z}, {x, y - 1, z},
+                            {x, y + 1, z}, {x, y, z - 1}, {x, y, z + 1}};
+      for (const auto& q : nb) {
+        if (q[0] < 0 || q[0] >= nx_ || q[1] < 0 || q[1] >= ny_ || q[2] < 0 || q[2] >= nz_) continue;
+        const std::size_t h =
+            (std::size_t(q[2]) * std::size_t(ny_) + std::size_t(q[1])) * std::size_t(nx_) +
+            std::size_t(q[0]);
+        if (start_[h] != kNoCell) continue;
+        start_[h] = start_[g];
+        next.push_back(h);
+      }
+    }
+    frontier.swap(next);
+  }
+}
+
+std::int32_t ProbeCellGrid::start_cell(const glm::vec3& p) const {
+  if (start_.empty()) return kNoCell;
+  auto idx = [](float x, float o, float inv, int n) {
+    const float f = (x - o) * inv;  // clamp in float first: no overflow converting to int
+    return std::clamp(static_cast<int>(std::clamp(f, 0.0f, static_cast<float>(n - 1))), 0, n - 1);
+  };
+  const int x = idx(p.x, origin_.x, inv_size_.x, nx_);
+  const int y = idx(p.y, origin_.y, inv_size_.y, ny_);
+  const int z = idx(p.z, origin_.z, inv_size_.z, nz_);
+  return start_[(std::size_t(z) * std::size_t(ny_) + std::size_t(y)) * std::size_t(nx_) +
+                std::size_t(x)];
+}
+
+// ---------------------------------------------------------------------------------------------
+
+ProbeTetWalk::ProbeTetWalk(std::shared_ptr<const data::ProbeCloud> cloud,
+                           const ProbeWalkSettings& settings)
+    : cloud_(std::move(cloud)), settings_(settings) {
+  if (!cloud_) throw std::invalid_argument("ProbeTetWalk: the cloud is null");
+  const data::ProbeCloud& c = *cloud_;
+  const std::string what = "ProbeTetWalk: invalid probe cloud: ";
+  if (settings_.max_steps < 1 || !(settings_.far_cells > 0))
+    throw std::invalid_argument("ProbeTetWalk: max_steps must be >= 1 and far_cells > 0");
+  if (c.bands < data::kProbeMinBands || c.bands > data::kProbeMaxBands)
+    throw std::invalid_argument(what + "bands = " + std::to_string(c.bands) + " (2..4)");
+  if (c.sh.size() != c.probe_count() * c.coeffs_per_probe())
+    throw std::invalid_argument(what + "sh has " + std::to_string(c.sh.size()) + " floats, " +
+                                std::to_string(c.probe_count()) + " probes need " +
+                                std::to_string(c.probe_count() * c.coeffs_per_probe()));
+  if (c.transforms.size() != c.cells.size())
+    throw std::invalid_argument(what + "transforms has " + std::to_string(c.transforms.size()) +
+                                " entries for " + std::to_string(c.cells.size()) + " cells");
+  if (c.inner_count > c.cells.size())
+    throw std::invalid_argument(what + "inner_count " + std::to_string(c.inner_count) +
+                                " > cells " + std::to_string(c.cells.size()));
+  if (c.inner_count < c.cells.size() && c.hull_normals.size() != c.probe_count())
+    throw std::invalid_argument(what + "outer cells need one hull normal per probe");
+  const auto probes = static_cast<std::int32_t>(c.probe_count());
+  const auto cells = static_cast<std::int64_t>(c.cells.size());
+  for (std::size_t i = 0; i < c.cells.size(); ++i) {
+    const data::ProbeCell& cell = c.cells[i];
+    const bool outer = i >= c.inner_count;
+    if (cell.outer() != outer)
+      throw std::invalid_argument(
+          what + "cell " + std::to_string(i) +
+          (outer ? " is past inner_count but not outer" : " is outer but before inner_count"));
+    for (int k = 0; k < (outer ? 3 : 4); ++k) {
+      const std::int32_t v = cell.vertices[static_cast<std::size_t>(k)];
+      if (v < 0 || v >= probes)
+        throw std::invalid_argument(what + "cell " + std::to_string(i) + ": vertex " +
+                                    std::to_string(v) + " out of range");
+    }
+    for (std::int32_t nb : cell.neighbours)
+      if (nb < -1 || nb >= cells)
+        throw std::invalid_argument(what + "cell " + std::to_string(i) + ": neighbour " +
+                                    std::to_string(nb) + " out of range");
+  }
+  for (std::size_t i = 0; i < c.positions.size(); ++i)
+    if (!finite(c.positions[i]))
+      throw std::invalid_argument(what + "probe " + std::to_string(i) + " is not finite");
+  grid_ = ProbeCellGrid(c);
+}
+
+ProbeWalkResult ProbeTetWalk::walk(const glm::vec3& p, std::int32_t start, int cap, float far2,
+                                   bool& done, std::vector<std::int32_t>* path) const {
+  const data::ProbeCloud& c = *cloud_;
+  constexpr int kRing = 64;  // the visited check looks at the last 64 cells
+  std::array<std::int32_t, kRing> visited;
+  int count = 0;
+  auto seen = [&](std::int32_t cell) {
+    const int n = std::min(count, kRing);
+    for (int i = 0; i < n; ++i)
+      if (visited[static_cast<std::size_t>(i)] == cell) return true;
+    return false;
+  };
+  std::int32_t cell = start, best_cell = kNoCell;
+  float best_min = -std::numeric_limits<float>::infinity();
+  std::array<float, 4> best_w{};
+  done = false;
+  for (int steps = 0;; ++steps) {
+    visited[static_cast<std::size_t>(count++ % kRing)] = cell;
+    if (path) path->push_back(cell);
+    const std::array<float, 4> w = cell_weights(c, static_cast<std::uint32_t>(cell), p);
+    ProbeWalkResult r;
+    r.steps = steps;
+    if (any_nan(w)) return r;  // a degenerate cell: let the caller fall back
+    const float mn = min_weight(w);
+    if (mn >= -kInsideTolerance) {
+      r = finish(c, cell, w, p);
+      r.steps = steps;
+      done = true;
+      return r;
+    }
+    if (steps == 0 && far2 >= 0) {
+      // A teleport: p far from every vertex of the start cell; the grid's start is nearer.
+      const data::ProbeCell& sc = c.cells[static_cast<std::size_t>(cell)];
+      float nearest = std::numeric_limits<float>::infinity();
+      for (int k = 0; k < (sc.outer() ? 3 : 4); ++k) {
+        const glm::vec3 d =
+            p - c.positions[static_cast<std::size_t>(sc.vertices[static_cast<std::size_t>(k)])];
+        nearest = std::min(nearest, glm::dot(d, d));
+      }
+      if (nearest > far2) return r;
+    }
+    if (mn > best_min) {
+      best_min = mn;
+      best_cell = cell;
+      best_w = w;
+    }
+    if (steps >= cap) return r;
+    // [Sukys14] sec. 3.2: across the face of the most negative weight (the next one when that
+    // neighbour was visited on this walk: a cycle from round-off).
+    std::array<int, 4> order{0, 1, 2, 3};
+    std::sort(order.begin(), order.end(), [&](int a, int b) {
+      return w[static_cast<std::size_t>(a)] < w[static_cast<std::size_t>(b)];
+    });
+    std::int32_t next = kNoCell;
+    for (int k : order) {
+      if (!(w[static_cast<std::size_t>(k)] < -kInsideTolerance)) break;
+      const std::int32_t nb =
+          c.cells[static_cast<std::size_t>(cell)].neighbours[static_cast<std::size_t>(k)];
+      if (nb >= 0 && !seen(nb)) {
+        next = nb;
+        break;
+      }
+    }
+    if (next == kNoCell) {
+      // Every way out leads back: p sits on faces the cells disagree about by round-off. The
+      // visited cell closest to holding p, unless even that one is clearly off (then fall back).
+      if (best_min < -1e-3f) return r;
+      r = finish(c, best_cell, best_w, p);
+      r.steps = steps;
+      done = true;
+      return r;
+    }
+    cell = next;
+  }
+}
+
+ProbeWalkResult ProbeTetWalk::brute_force(const glm::vec3& p) const {
+  const data::ProbeCloud& c = *cloud_;
+  std::int32_t best_cell = kNoCell;
+  float best_min = -std::numeric_limits<float>::infinity();
+  std::array<float, 4> best_w{};
+  for (std::size_t i = 0; i < c.cells.size(); ++i) {
+    const std::array<float, 4> w = cell_weights(c, static_cast<std::uint32_t>(i), p);
+    if (any_nan(w)) continue;
+    const float mn = min_weight(w);
+    if (mn > best_min) {
+      best_min = mn;
+      best_cell = static_cast<std::int32_t>(i);
+      best_w = w;
+    }
+  }
+  if (best_cell == kNoCell) return no_cells(p);
+  return finish(c, best_cell, best_w, p);
+}
+
+ProbeWalkResult ProbeTetWalk::no_cells(const glm::vec3& p) const {
+  const data::ProbeCloud& c = *cloud_;
+  ProbeWalkResult r;
+  r.fallback = true;
+  if (c.positions.empty()) return r;
+  std::size_t nearest = 0;
+  float best = std::numeric_limits<float>::infinity();
+  for (std::size_t i = 0; i < c.positions.size(); ++i) {
+    const glm::vec3 d = c.positions[i] - p;
+    const float d2 = glm::dot(d, d);
+    if (d2 < best) {
+      best = d2;
+      nearest = i;
+    }
+  }
+  r.probes[0] = static_cast<std::int32_t>(nearest);
+  r.weights[0] = 1.0f;
+  return r;
+}
+
+ProbeWalkResult ProbeTetWalk::locate(const glm::vec3& p, std::int32_t start,
+                                     std::vector<std::int32_t>* path) const {
+  if (!finite(p))
+    throw std::invalid_argument("ProbeTetWalk::locate: the point " + vec_str(p) + " is not finite");
+  const data::ProbeCloud& c = *cloud_;
+  if (c.inner_count == 0) return no_cells(p);
+  const auto cells = static_cast<std::int64_t>(c.cells.size());
+  int steps = 0;
+  bool done = false;
+  if (start >= 0 && start < cells) {
+    const float far = settings_.far_cells * grid_.cell_size();
+    ProbeWalkResult r = walk(p, start, settings_.max_steps, far * far, done, path);
+    if (done) return r;
+    steps = r.steps;
+  }
+  const int cap = std::max(4 * settings_.max_steps, 1024);
+  ProbeWalkResult r = walk(p, grid_.start_cell(p), cap, -1.0f, done, path);
+  if (!done) {
+    steps += r.steps;
+    r = brute_force(p);
+    if (path) path->push_back(r.cell);
+  }
+  r.steps += steps;
+  r.fallback = true;
+  return r;
+}
+
+ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
+                             const std::array<std::int32_t, 4>& probes,
+                             const std::array<float, 4>& weights) {
+  ProbeSh out{};
+  const int n = cloud.bands * cloud.bands;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const float w = weights[k];
+    if (probes[k] < 0 || w == 0.0f) continue;
+    const float* s = cloud.probe_sh(static_cast<std::size_t>(probes[k]));
+    for (std::size_t ch = 0; ch < 3; ++ch)
+      for (int i = 0; i < n; ++i)
+        out[ch][static_cast<std::size_t>(i)] +=
+            w * s[ch * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)];
+  }
+  return out;
+}
+
+ProbeSh ProbeTetWalk::interpolate(const ProbeWalkResult& r) const {
+  return interpolate_probe_sh(*cloud_, r.probes, r.weights);
+}
+
+std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
+                                       std::span<std::int32_t> cells,
+                                       std::span<ProbeSh> out) const {
+  if (cells.size() != points.size() || out.size() != points.size())
+    throw std::invalid_argument("ProbeTetWalk::locate_batch: " + std::to_string(points.size()) +
+                                " points, " + std::to_string(cells.size()) + " cells, " +
+                                std::to_string(out.size()) + " outputs (must be equal)");
+  std::size_t fallbacks = 0;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const ProbeWalkResult r = locate(points[i], cells[i]);
+    cells[i] = r.cell;
+    out[i] = interpolate(r);
+    fallbacks += r.fallback ? 1 : 0;
+  }
+  return fallbacks;
+}
+
+}  // namespace penumbra::probe_cloud

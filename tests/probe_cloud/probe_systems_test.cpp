@@ -1,0 +1,245 @@
+#include "penumbra/systems/probe_cloud/probe_systems.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "penumbra/components/frame_time.h"
+#include "penumbra/components/probe_anchor.h"
+#include "penumbra/components/probe_cloud_resource.h"
+#include "penumbra/components/probe_lighting.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/jobs/executor.h"
+#include "probe_walk_test_util.h"
+
+namespace penumbra::probe_cloud {
+namespace {
+
+using components::FrameTime;
+using components::ProbeAnchor;
+using components::ProbeCloudResource;
+using components::ProbeLighting;
+using components::Transform;
+using test::make_cloud;
+using test::max_abs_diff;
+
+Transform at(const glm::vec3& p) {
+  return Transform{glm::translate(glm::mat4(1.0f), p)};
+}
+
+struct Scene {
+  ecs::World world;
+  jobs::Schedule schedule;
+  jobs::Executor executor;
+  std::vector<ecs::Entity> entities;
+  glm::vec3 offset{0.0f};  // every entity's anchor offset
+  explicit Scene(std::shared_ptr<const data::ProbeCloud> cloud, int threads = 2)
+      : executor(threads) {
+    emplace_probe_cloud_resources(world, std::move(cloud));
+    add_probe_cloud_systems(schedule);
+  }
+  // Entities whose sample points (Transform * offset) are `positions`.
+  void spawn(const std::vector<glm::vec3>& positions,
+             const glm::vec3& anchor_offset = glm::vec3(0)) {
+    offset = anchor_offset;
+    for (const glm::vec3& p : positions) {
+      ProbeAnchor a;
+      a.offset = offset;
+      entities.push_back(world.create_with(at(p - offset), a, ProbeLighting{}));
+    }
+  }
+  void move(const std::vector<glm::vec3>& positions) {
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      *world.get_mut<Transform>(entities[i]) = at(positions[i] - offset);
+  }
+  void run() { executor.run(schedule, world); }
+  const ProbeWalkReport& report() { return world.resource<const ProbeWalkReport>(); }
+  const ProbeTetWalk& walk() { return *world.resource<const ProbeWalkState>().walk; }
+};
+
+// Every entity's lighting equals a direct locate + interpolate at its sample point.
+void expect_matches_direct(Scene& s, const std::vector<glm::vec3>& positions) {
+  for (std::size_t i = 0; i < positions.size(); ++i) {
+    const ProbeLighting* l = s.world.get<ProbeLighting>(s.entities[i]);
+    ASSERT_NE(l, nullptr);
+    ASSERT_TRUE(l->valid);
+    const ProbeWalkResult r = s.walk().locate(positions[i], -1);
+    ASSERT_LT(max_abs_diff(l->sample, s.walk().interpolate(r)), 2e-4f) << "entity " << i;
+    EXPECT_GE(s.world.get<ProbeAnchor>(s.entities[i])->cell, 0);
+  }
+}
+
+TEST(ProbeSystems, MovingEntitiesGetTheInterpolatedShAndKeepTheirCells) {
+  const auto points = test::random_points(300, 10.0f, 31);
+  Scene s(make_cloud(points, test::random_sh(points.size(), 3, 32)));
+  auto positions = test::random_points(2000, 12.0f, 33);  // some outside the hull
+  s.spawn(positions, glm::vec3(0.1f, 0.0f, 0.2f));
+  s.run();
+  ASSERT_TRUE(s.report().errors.empty());
+  EXPECT_EQ(s.report().entities, positions.size());
+  EXPECT_EQ(s.report().fallbacks, positions.size());  // no cache yet
+  expect_matches_direct(s, positions);
+  std::mt19937 rng(34);
+  std::uniform_real_distribution<float> step(-0.1f, 0.1f);
+  for (int frame = 0; frame < 3; ++frame) {
+    for (glm::vec3& p : positions) p += glm::vec3(step(rng), step(rng), step(rng));
+    s.move(positions);
+    s.run();
+    EXPECT_EQ(s.report().entities, positions.size());
+    // Small moves walk from the cache; a few entities outside the hull, far from every vertex of
+    // a large outer cell, take the grid (the far check).
+    EXPECT_LT(s.report().fallbacks, positions.size() / 100);
+    expect_matches_direct(s, positions);
+  }
+}
+
+TEST(ProbeSystems, ReplacingTheCloudInvalidatesEveryCachedCell) {
+  const auto points = test::random_points(300, 10.0f, 35);
+  Scene s(make_cloud(points, test::random_sh(points.size(), 3, 36)));
+  const auto positions = test::random_points(500, 10.0f, 37);
+  s.spawn(positions);
+  s.run();
+  s.run();
+  EXPECT_EQ(s.report().fallbacks, 0u);
+  const std::uint64_t g = s.world.resource<const ProbeWalkState>().generation;
+  // Another scene: the same number of cells would make old indices look valid.
+  const auto other = test::random_points(300, 10.0f, 38);
+  s.world.resource<ProbeCloudResource>().replace(
+      make_cloud(other, test::random_sh(other.size(), 3, 39)));
+  s.run();
+  EXPECT_GT(s.world.resource<const ProbeWalkState>().generation, g);
+  EXPECT_EQ(s.report().fallbacks, positions.size());
+  expect_matches_direct(s, positions);
+  for (ecs::Entity e : s.entities)
+    EXPECT_EQ(s.world.get<ProbeAnchor>(e)->generation,
+              s.world.resource<const ProbeWalkState>().generation);
+  // Assigning the pointer without replace() is caught too.
+  s.world.resource<ProbeCloudResource>().cloud = make_cloud(points, test::random_sh(300, 3, 40));
+  s.run();
+  EXPECT_EQ(s.report().fallbacks, positions.size());
+  expect_matches_direct(s, positions);
+}
+
+TEST(ProbeSystems, NonFiniteEntitiesAreSkippedAndNamed) {
+  const auto points = test::random_points(100, 10.0f, 41);
+  Scene s(make_cloud(points, test::random_sh(points.size(), 3, 42)));
+  s.spawn({{5, 5, 5}, {4, 4, 4}, {6, 5, 4}});
+  s.run();
+  const ProbeLighting before = *s.world.get<ProbeLighting>(s.entities[1]);
+  const ProbeAnchor anchor_before = *s.world.get<ProbeAnchor>(s.entities[1]);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  s.world.get_mut<Transform>(s.entities[1])->world[3].y = nan;
+  s.world.get_mut<ProbeAnchor>(s.entities[2])->offset.x = std::numeric_limits<float>::infinity();
+  s.run();
+  ASSERT_EQ(s.report().errors.size(), 2u);
+  EXPECT_EQ(s.report().entities, 1u);
+  const std::string name1 = "entity " + std::to_string(s.entities[1].index) + "v" +
+                            std::to_string(s.entities[1].generation);
+  EXPECT_NE(s.report().errors[0].find(name1), std::string::npos) << s.report().errors[0];
+  EXPECT_NE(s.report().errors[0].find("not finite"), std::string::npos);
+  const ProbeLighting& after = *s.world.get<ProbeLighting>(s.entities[1]);
+  EXPECT_EQ(max_abs_diff(after.irradiance, before.irradiance), 0.0f);
+  EXPECT_EQ(s.world.get<ProbeAnchor>(s.entities[1])->cell, anchor_before.cell);
+}
+
+TEST(ProbeSystems, SmoothingStartsFromTheFirstSample) {
+  const auto points = test::grid_points(4, 4, 4, 2.0f);
+  // Probe brightness grows with x: moving along x changes the sample.
+  std::vector<float> sh(points.size() * 27, 0.0f);
+  for (std::size_t k = 0; k < points.size(); ++k)
+    for (std::size_t ch = 0; ch < 3; ++ch) sh[(k * 3 + ch) * 9] = 1.0f + points[k].x;
+  Scene s(make_cloud(points, sh));
+  auto& settings = s.world.resource<ProbeSettingsResource>();
+  settings.smoothing = ProbeSmoothing::kExponential;
+  settings.time_constant = 0.5f;
+  s.world.emplace_resource<FrameTime>().dt = 0.1f;
+  s.spawn({{1, 3, 3}});
+  s.run();
+  const ProbeLighting& l = *s.world.get<ProbeLighting>(s.entities[0]);
+  EXPECT_NEAR(l.irradiance[0][0], 2.0f, 1e-5f);  // the first sample, not black
+  EXPECT_EQ(max_abs_diff(l.irradiance, l.sample), 0.0f);
+  s.move({{5, 3, 3}});
+  s.run();
+  const ProbeLighting& m = *s.world.get<ProbeLighting>(s.entities[0]);
+  EXPECT_NEAR(m.sample[0][0], 6.0f, 1e-5f);
+  const float alpha = smoothing_alpha(0.1f, 0.5f);
+  EXPECT_NEAR(alpha, 1.0f - std::exp(-0.2f), 1e-6f);
+  EXPECT_NEAR(m.irradiance[0][0], 2.0f + 4.0f * alpha, 1e-5f);
+  for (int i = 0; i < 60; ++i) s.run();
+  EXPECT_NEAR(s.world.get<ProbeLighting>(s.entities[0])->irradiance[0][0], 6.0f, 1e-3f);
+  EXPECT_EQ(smoothing_alpha(0.1f, 0.0f), 1.0f);
+}
+
+TEST(ProbeSystems, NoCloudWritesNothingAndAnEmptyCloudGivesZero) {
+  Scene s(nullptr);
+  s.spawn({{1, 2, 3}});
+  s.run();
+  EXPECT_FALSE(s.world.get<ProbeLighting>(s.entities[0])->valid);
+  EXPECT_EQ(s.report().entities, 0u);
+  s.world.resource<ProbeCloudResource>().replace(make_cloud({}, {}));
+  s.run();
+  const ProbeLighting& l = *s.world.get<ProbeLighting>(s.entities[0]);
+  EXPECT_TRUE(l.valid);
+  EXPECT_EQ(l.irradiance[0][0], 0.0f);
+  EXPECT_EQ(s.world.get<ProbeAnchor>(s.entities[0])->cell, kNoCell);
+}
+
+TEST(ProbeSystems, ResultsDoNotDependOnTheThreadCount) {
+  const auto points = test::random_points(500, 10.0f, 43);
+  const auto cloud = make_cloud(points, test::random_sh(points.size(), 3, 44));
+  const auto positions = test::random_points(20000, 11.0f, 45);
+  Scene one(cloud, 1), two(cloud, 2);
+  one.spawn(positions);
+  two.spawn(positions);
+  one.run();
+  two.run();
+  EXPECT_EQ(one.report().steps, two.report().steps);
+  EXPECT_EQ(one.report().fallbacks, two.report().fallbacks);
+  for (std::size_t i = 0; i < positions.size(); i += 7)
+    ASSERT_EQ(max_abs_diff(one.world.get<ProbeLighting>(one.entities[i])->irradiance,
+                           two.world.get<ProbeLighting>(two.entities[i])->irradiance),
+              0.0f);
+}
+
+// Quick timing (not a benchmark): run with --gtest_also_run_disabled_tests in a release build.
+TEST(ProbeSystems, DISABLED_TimingMovingEntities) {
+  const auto points = test::random_points(2000, 40.0f, 46);
+  const auto cloud = make_cloud(points, test::random_sh(points.size(), 3, 47));
+  for (std::size_t n : {std::size_t{10000}, std::size_t{100000}}) {
+    Scene s(cloud, 2);
+    auto positions = test::random_points(n, 40.0f, 48);
+    s.spawn(positions);
+    s.run();
+    std::mt19937 rng(49);
+    std::uniform_real_distribution<float> step(-0.05f, 0.05f);  // 3 m/s at 60 Hz
+    double total = 0;
+    const int frames = 50;
+    std::size_t steps = 0, fallbacks = 0;
+    for (int f = 0; f < frames; ++f) {
+      for (glm::vec3& p : positions) p += glm::vec3(step(rng), step(rng), step(rng));
+      s.move(positions);
+      const auto t0 = std::chrono::steady_clock::now();
+      s.run();
+      total +=
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      steps += s.report().steps;
+      fallbacks += s.report().fallbacks;
+    }
+    std::printf(
+        "%zu entities, 2 threads: %.3f ms per frame, %.3f steps, %.5f fallbacks per "
+        "entity\n",
+        n, total / frames, double(steps) / double(n * frames),
+        double(fallbacks) / double(n * frames));
+  }
+}
+
+}  // namespace
+}  // namespace penumbra::probe_cloud
