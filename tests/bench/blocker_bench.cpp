@@ -42,6 +42,7 @@
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
+#include "penumbra/systems/blocker_accumulation/blocker_log_sum.h"
 
 namespace penumbra::bench::blockers {
 
@@ -205,6 +206,69 @@ void BM_Pair(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * kPairs);
 }
 
+// The same pairs grouped as 64 receivers of 64 blockers each (receiver r: pair 64 r's point and
+// normal; its blockers: the offsets of pairs 64 r .. 64 r + 63, mirrored into its upper
+// hemisphere), for the lane path, which shades one receiver's blockers eight at a time.
+struct GroupedPairs {
+  static constexpr int kPerReceiver = 64;
+  std::vector<glm::vec3> p, n;  // per receiver
+  std::vector<Pair> blockers;   // kPerReceiver per receiver, in order
+};
+GroupedPairs grouped_pairs() {
+  const std::vector<Pair> all = pairs();
+  GroupedPairs g;
+  for (std::size_t r = 0; r < all.size() / GroupedPairs::kPerReceiver; ++r) {
+    const Pair& at = all[r * GroupedPairs::kPerReceiver];
+    g.p.push_back(at.p);
+    g.n.push_back(at.n);
+    for (int b = 0; b < GroupedPairs::kPerReceiver; ++b) {
+      const Pair& q = all[r * GroupedPairs::kPerReceiver + b];
+      glm::vec3 off = q.centre - q.p;
+      if (glm::dot(off, at.n) < 0) off -= 2 * glm::dot(off, at.n) * at.n;
+      g.blockers.push_back({at.p, at.n, at.p + off, q.radius});
+    }
+  }
+  return g;
+}
+
+// view_blocker + add_log_visibility per pair on the grouped pairs (the lane path's baseline).
+template <int N>
+void BM_PairGrouped(benchmark::State& state) {
+  const GroupedPairs g = grouped_pairs();
+  const ba::SphereBlockerSettings s;
+  const float log_eps = std::log(s.epsilon);
+  for (auto _ : state)
+    for (std::size_t r = 0; r < g.p.size(); ++r) {
+      sh::Coeffs<N> sum{};
+      for (int b = 0; b < GroupedPairs::kPerReceiver; ++b) {
+        const Pair& q = g.blockers[r * GroupedPairs::kPerReceiver + b];
+        ba::add_log_visibility<N>(ba::view_blocker(q.p, q.n, q.centre, q.radius, s), log_eps, sum);
+      }
+      benchmark::DoNotOptimize(sum);
+    }
+  state.SetItemsProcessed(state.iterations() * kPairs);
+}
+
+// The same sums by BlockerLogSum: eight blockers per step on vector lanes.
+template <int N>
+void BM_PairLanes(benchmark::State& state) {
+  const GroupedPairs g = grouped_pairs();
+  const ba::SphereBlockerSettings s;
+  const float log_eps = std::log(s.epsilon);
+  for (auto _ : state)
+    for (std::size_t r = 0; r < g.p.size(); ++r) {
+      sh::Coeffs<N> sum{};
+      ba::BlockerLogSum<N> lanes(g.p[r], g.n[r], s, log_eps);
+      for (int b = 0; b < GroupedPairs::kPerReceiver; ++b) {
+        const Pair& q = g.blockers[r * GroupedPairs::kPerReceiver + b];
+        lanes.add(q.centre, q.radius, 1);
+      }
+      lanes.finish(sum);
+      benchmark::DoNotOptimize(sum);
+    }
+  state.SetItemsProcessed(state.iterations() * kPairs);
+}
+
 void BM_View(benchmark::State& state) {
   const std::vector<Pair> batch = pairs();
   const ba::SphereBlockerSettings s;
@@ -331,6 +395,8 @@ template <int N>
 void register_bands() {
   const std::string n = "<" + std::to_string(N) + ">";
   pb::add("BM_Pair" + n, kCpu, BM_Pair<N>);
+  pb::add("BM_PairGrouped" + n, kCpu, BM_PairGrouped<N>);
+  pb::add("BM_PairLanes" + n, kCpu, BM_PairLanes<N>);
   pb::add("BM_AddLog" + n, kCpu, BM_AddLog<N>);
   pb::add("BM_Exp" + n, kCpu, BM_Exp<N>);
   pb::add("BM_Shade" + n, kCpu, BM_Shade<N>);
@@ -373,6 +439,10 @@ void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {
               "4,096 pairs, none culled; floor: " + fmt("%.0f", pair) + " ops (view_blocker " +
                   fmt("%.0f", bb::view_flops()) + ", add_log " + fmt("%.0f", bb::add_log_flops(N)) +
                   ")");
+  bb::add_row(s, tag + "pair, 8 lanes (BlockerLogSum)", "ns/pair", per_pair("PairLanes"),
+              per_pair("PairGrouped"), pb::Goal::none(), pair * ns_per_fma / sh::kBatch,
+              "64 receivers x 64 blockers; baseline: view + add_log per pair on the same pairs; "
+              "floor: the scalar one / 8 lanes");
   bb::add_row(s, tag + "add_log_visibility", "ns/pair", per_pair("AddLog"), std::nullopt,
               pb::Goal::none(), bb::add_log_flops(N) * ns_per_fma,
               "views precomputed; basis " + fmt("%.0f", bb::basis_flops(N)) +

@@ -5,6 +5,9 @@
 #include <cmath>
 #include <numbers>
 
+#include "penumbra/sh/lanes.h"
+#include "penumbra/sh/rotation.h"
+#include "penumbra/sh/zh.h"
 #include "sh_test_util.h"
 
 namespace penumbra::sh {
@@ -59,7 +62,8 @@ void check_orthonormal() {
     }
   }
   for (int i = 0; i < N * N; ++i) {
-    for (int j = 0; j < N * N; ++j) EXPECT_NEAR(gram[i][j], i == j ? 1.0 : 0.0, 2e-5) << i << "," << j;
+    for (int j = 0; j < N * N; ++j)
+      EXPECT_NEAR(gram[i][j], i == j ? 1.0 : 0.0, 2e-5) << i << "," << j;
   }
 }
 
@@ -90,6 +94,33 @@ TEST(Basis, BatchMatchesScalarAndEvaluateMatchesDot) {
     Coeffs<6> yc;
     std::copy(y.begin(), y.end(), yc.begin());
     EXPECT_NEAR(evaluate<6>(f, {xs[d], ys[d], zs[d]}), dot<6>(f, yc), 1e-5f);
+  }
+}
+
+// add_cap_lanes: eight caps of different sizes and axes, each the rotated cap indicator
+// (zh_cap + rotate_zh) times its scale; a lane with scale 0 adds nothing.
+TEST(Basis, CapLanesMatchRotatedCapIndicator) {
+  std::mt19937 rng(5);
+  alignas(32) float x[8], y[8], z[8], c[8], scale[8];
+  float angle[8];
+  for (int l = 0; l < 8; ++l) {
+    const glm::vec3 v = test::random_direction(rng);
+    x[l] = v.x, y[l] = v.y, z[l] = v.z;
+    angle[l] = 0.05f + 0.4f * static_cast<float>(l);  // up to 2.85 rad: past the hemisphere
+    c[l] = std::cos(angle[l]);
+    scale[l] = l == 3 ? 0.0f : -1.6f + 0.1f * static_cast<float>(l);
+  }
+  Lanes acc[25];
+  for (Lanes& a : acc) a = splat(0.5f);  // adds to what is there
+  add_cap_lanes<5>(load_lanes(x), load_lanes(y), load_lanes(z), load_lanes(c), load_lanes(scale),
+                   acc);
+  for (int l = 0; l < 8; ++l) {
+    const Coeffs<5> cap = rotate_zh<5>(zh_cap<5>(angle[l]), glm::vec3(x[l], y[l], z[l]));
+    for (int i = 0; i < 25; ++i) {
+      alignas(32) float out[8];
+      store_lanes(acc[i], out);
+      EXPECT_NEAR(out[l], 0.5f + scale[l] * cap[i], 2e-5f) << "lane " << l << " coeff " << i;
+    }
   }
 }
 

@@ -9,30 +9,17 @@
 
 #include "../generated/basis_generated.h"
 #include "../generated/product_generated.h"
+#include "penumbra/sh/lanes.h"
 
 namespace penumbra::sh {
 namespace {
 namespace g = generated;
 
-// One coefficient of kBatch vectors: a GCC/Clang vector (one AVX2 register), and its mask type.
-using Lanes = float __attribute__((vector_size(32)));
-using Mask = int __attribute__((vector_size(32)));
-static_assert(sizeof(Lanes) == kBatch * sizeof(float));
+static_assert(kLaneCount == kBatch);
+using Mask = LaneMask;
 
 constexpr float kY0 = 0.28209479177387814f;  // y_0 = 1 / sqrt(4 pi), as exp_log.cpp
 
-inline Lanes splat(float x) {
-  return Lanes{} + x;
-}
-inline Lanes select(Mask m, Lanes a, Lanes b) {  // m ? a : b per lane (m all ones or zero)
-  Mask ai, bi;
-  std::memcpy(&ai, &a, sizeof a);
-  std::memcpy(&bi, &b, sizeof b);
-  const Mask r = (ai & m) | (bi & ~m);
-  Lanes out;
-  std::memcpy(&out, &r, sizeof out);
-  return out;
-}
 inline Mask finite(Lanes x) {  // std::isfinite per lane: |x| <= FLT_MAX (false for NaN)
   Mask xi;
   std::memcpy(&xi, &x, sizeof x);

@@ -15,6 +15,7 @@
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/rotation.h"
+#include "penumbra/systems/blocker_accumulation/blocker_log_sum.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -222,7 +223,41 @@ template <int N>
 sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::vec3& n,
                                                  Contributors& contributors) const {
   sh::Coeffs<N> sum{};
-  const auto add = [&](const WorldSphere& s, float scale) {
+  const bool cut = settings_.hierarchy == BlockerHierarchy::kObjects;
+  const BlockerGrid::Candidates c = grid_.candidates(p);
+  // Every (sphere, scale) this receiver sees, as the hierarchy's cut decides ([Ren06]: below the
+  // cut the bound stands for its spheres; over [cut, 1.25 cut] the two are blended in log space
+  // so a receiver crossing the cut sees no step).
+  const auto for_each_blocker = [&](auto&& add) {
+    for (const auto list : {c.near, c.everywhere})
+      for (const std::uint32_t gi : list) {
+        const BlockerGroup& g = groups_[gi];
+        if (g.count == 1) {
+          add(spheres_[g.first], 1.0f);
+          continue;
+        }
+        const float d = glm::length(g.bound.centre - p);
+        const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
+        const float a = cut ? std::clamp((s - cut_sin_) / (0.25f * cut_sin_), 0.0f, 1.0f) : 1.0f;
+        if (a < 1) add(g.bound, g.coverage * (1 - a));
+        if (a > 0)
+          for (std::uint32_t i = g.first; i < g.first + g.count; ++i) add(spheres_[i], a);
+      }
+  };
+  if (!clipped_log_) {  // the eps cap: eight blockers per step (blocker_log_sum.h)
+    BlockerLogSum<N> lanes(p, n, settings_.blocker, log_eps_);
+    for_each_blocker(
+        [&](const WorldSphere& s, float scale) { lanes.add(s.centre, s.radius, scale); });
+    lanes.finish(sum);
+    contributors.views += lanes.views();
+    contributors.adds += lanes.adds();
+    contributors.weight += lanes.weight();
+    for (const glm::vec3& axis : lanes.axes())
+      if (contributors.count < Contributors::kMaxAxes)
+        contributors.axes[contributors.count++] = axis;
+    return sum;
+  }
+  for_each_blocker([&](const WorldSphere& s, float scale) {
     BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
     ++contributors.views;
     v.weight *= scale;
@@ -232,25 +267,7 @@ sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::
     contributors.weight += v.weight * depth;
     if (contributors.count < Contributors::kMaxAxes)
       contributors.axes[contributors.count++] = v.axis;
-  };
-  const bool cut = settings_.hierarchy == BlockerHierarchy::kObjects;
-  const BlockerGrid::Candidates c = grid_.candidates(p);
-  for (const auto list : {c.near, c.everywhere})
-    for (const std::uint32_t gi : list) {
-      const BlockerGroup& g = groups_[gi];
-      if (g.count == 1) {
-        add(spheres_[g.first], 1.0f);
-        continue;
-      }
-      // [Ren06]: below the cut the bound stands for its spheres; over [cut, 1.25 cut] the two
-      // are blended (in log space) so a receiver crossing the cut sees no step.
-      const float d = glm::length(g.bound.centre - p);
-      const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
-      const float a = cut ? std::clamp((s - cut_sin_) / (0.25f * cut_sin_), 0.0f, 1.0f) : 1.0f;
-      if (a < 1) add(g.bound, g.coverage * (1 - a));
-      if (a > 0)
-        for (std::uint32_t i = g.first; i < g.first + g.count; ++i) add(spheres_[i], a);
-    }
+  });
   return sum;
 }
 

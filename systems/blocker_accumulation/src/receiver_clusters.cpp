@@ -20,6 +20,7 @@
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/rotation.h"
+#include "penumbra/systems/blocker_accumulation/blocker_log_sum.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -177,6 +178,9 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       ++cnt.centre_views;
       return view_blocker(cl.centre, d > 0 ? to / d : glm::vec3(0, 0, 1), s.centre, s.radius, bs);
     };
+    // The eps cap: the far spheres eight per step (blocker_log_sum.h), seen from x_C.
+    const bool use_lanes = !acc.clipped_log_;
+    BlockerLogSum<N> far_lanes(cl.centre, set.blocker, log_eps);
     for (std::uint32_t gi = 0; gi < acc.groups_.size(); ++gi) {
       const BlockerGroup& g = acc.groups_[gi];
       const float r = g.bound.radius;
@@ -198,6 +202,15 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       if (small && above) {
         // [Ren06] / [Guerrero08] sec. 7.3: far from the whole cluster, summed once at x_C.
         ++cnt.far_groups;
+        if (use_lanes) {  // the spheres' weights are summed by far_lanes; the group's axis here
+          for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
+            far_lanes.add(acc.spheres_[k].centre, acc.spheres_[k].radius, 1);
+            far_spheres.push_back(k);
+          }
+          if (far_axes < kMaxFarAxes)
+            sh::eval_basis<N>(to / d, far_basis.data() + N * N * far_axes++);
+          continue;
+        }
         float w = 0;
         glm::vec3 axis = to / d;
         for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
@@ -238,6 +251,12 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       }
       near.push_back(e);
     }
+    if (use_lanes) {
+      far_lanes.finish(far);
+      far_weight += far_lanes.weight();
+      cnt.centre_views += far_lanes.views();
+      cnt.centre_adds += far_lanes.adds();
+    }
     const bool gradient = settings_.far_gradient && !far_spheres.empty() && cl.radius > 0;
     if (gradient) {
       // First-order parallax: forward differences of the far sum over half the cluster's radius.
@@ -246,12 +265,20 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         glm::vec3 x = cl.centre;
         x[a] += h;
         sh::Coeffs<N> at{};
-        for (const std::uint32_t k : far_spheres) {
-          const WorldSphere& sp = acc.spheres_[k];
-          ++cnt.centre_views;
-          acc.add_blocker_log(
-              view_blocker(x, glm::normalize(sp.centre - x), sp.centre, sp.radius, set.blocker),
-              at);
+        if (use_lanes) {
+          BlockerLogSum<N> shifted(x, set.blocker, log_eps);
+          for (const std::uint32_t k : far_spheres)
+            shifted.add(acc.spheres_[k].centre, acc.spheres_[k].radius, 1);
+          shifted.finish(at);
+          cnt.centre_views += shifted.views();
+        } else {
+          for (const std::uint32_t k : far_spheres) {
+            const WorldSphere& sp = acc.spheres_[k];
+            ++cnt.centre_views;
+            acc.add_blocker_log(
+                view_blocker(x, glm::normalize(sp.centre - x), sp.centre, sp.radius, set.blocker),
+                at);
+          }
         }
         for (int i = 0; i < N * N; ++i) far_gradient[a][i] = (at[i] - far[i]) / h;
       }
@@ -330,7 +357,13 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       glm::vec3 axes[kMaxAxes];
       int axis_count = 0;
       std::size_t adds = 0;
+      // The eps cap's blockers without a band ratio: eight per step (blocker_log_sum.h).
+      BlockerLogSum<N> pairs(p, n, set.blocker, log_eps);
       const auto add = [&](const WorldSphere& s, float scale, const std::array<float, N>* ratio) {
+        if (use_lanes && !ratio) {
+          pairs.add(s.centre, s.radius, scale);
+          return;
+        }
         BlockerView v = view_blocker(p, n, s.centre, s.radius, set.blocker);
         ++cnt.receiver_views;
         v.weight *= scale;
@@ -369,6 +402,12 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
           for (std::uint32_t i = g.first; i < g.first + g.count; ++i)
             add(acc.spheres_[i], a, nullptr);
       }
+      pairs.finish(sum);
+      cnt.receiver_views += pairs.views();
+      adds += pairs.adds();
+      weight += pairs.weight();
+      for (const glm::vec3& axis : pairs.axes())
+        if (axis_count < kMaxAxes) axes[axis_count++] = axis;
       cnt.receiver_adds += adds;
       const std::uint32_t out = order_[k];
       sh::Coeffs<N>* vis = visibility.empty() ? nullptr : &visibility[out];
