@@ -61,9 +61,15 @@ void prepare(jobs::SystemContext& ctx) {
   }
 }
 
+void smooth_towards(ProbeLighting& l, float alpha) {
+  for (std::size_t ch = 0; ch < 3; ++ch)
+    for (std::size_t k = 0; k < l.sample[ch].size(); ++k)
+      l.irradiance[ch][k] += (l.sample[ch][k] - l.irradiance[ch][k]) * alpha;
+}
+
 // Per-chunk partial report, merged in chunk order by finish.
 struct Partial {
-  std::size_t entities = 0, fallbacks = 0, steps = 0;
+  std::size_t entities = 0, unchanged = 0, fallbacks = 0, steps = 0;
   int max_steps = 0;
   std::vector<std::string> errors;
 };
@@ -93,20 +99,25 @@ void walk_chunk(jobs::SystemContext& ctx,
                            "skipped, its lighting kept");
       continue;
     }
-    const std::int32_t start = a.generation == state.generation ? a.cell : kNoCell;
-    const ProbeWalkResult r = walk.locate(p, start);
+    ProbeLighting& l = lighting[i];
+    const bool cached = a.generation == state.generation;
+    if (cached && l.valid && a.point == p) {
+      // Not moved since its last walk, same cloud: the same sample; only the smoothing moves.
+      ++out.unchanged;
+      if (alpha < 1.0f) smooth_towards(l, alpha);
+      continue;
+    }
+    const ProbeWalkResult r = walk.locate(p, cached ? a.cell : kNoCell);
     a.cell = r.cell;
     a.generation = state.generation;
+    a.point = p;
     a.steps = r.steps;
     a.fallback = r.fallback;
-    ProbeLighting& l = lighting[i];
     l.sample = walk.interpolate(r);
     if (!l.valid || alpha >= 1.0f) {
       l.irradiance = l.sample;  // the first sample as it is: never smoothed up from black
     } else {
-      for (std::size_t ch = 0; ch < 3; ++ch)
-        for (std::size_t k = 0; k < l.sample[ch].size(); ++k)
-          l.irradiance[ch][k] += (l.sample[ch][k] - l.irradiance[ch][k]) * alpha;
+      smooth_towards(l, alpha);
     }
     l.valid = true;
     ++out.entities;
@@ -159,6 +170,7 @@ void add_probe_cloud_systems(jobs::Schedule& schedule) {
     report = {};
     for (Partial& p : *partials) {  // chunk order: independent of the thread count
       report.entities += p.entities;
+      report.unchanged += p.unchanged;
       report.fallbacks += p.fallbacks;
       report.steps += p.steps;
       report.max_steps = std::max(report.max_steps, p.max_steps);

@@ -28,6 +28,20 @@ float min_weight(const std::array<float, 4>& w) {
   return std::min(std::min(w[0], w[1]), std::min(w[2], w[3]));
 }
 
+// cell_weights() with the inner tetrahedra inline (the walk's hot path; same formula, the
+// transform of data/probe_cloud.h).
+std::array<float, 4> weights_at(const data::ProbeCloud& cloud, std::int32_t cell,
+                                const glm::vec3& p) {
+  const auto i = static_cast<std::size_t>(cell);
+  if (i < cloud.inner_count) {
+    const glm::mat4& m = cloud.transforms[i];
+    const glm::vec3 d = p - glm::vec3(m[3]);
+    const glm::vec3 l = glm::vec3(m[0]) * d.x + glm::vec3(m[1]) * d.y + glm::vec3(m[2]) * d.z;
+    return {l.x, l.y, l.z, 1.0f - l.x - l.y - l.z};
+  }
+  return cell_weights(cloud, static_cast<std::uint32_t>(cell), p);
+}
+
 bool any_nan(const std::array<float, 4>& w) {
   return std::isnan(w[0]) || std::isnan(w[1]) || std::isnan(w[2]) || std::isnan(w[3]);
 }
@@ -231,7 +245,7 @@ ProbeWalkResult ProbeTetWalk::walk(const glm::vec3& p, std::int32_t start, int c
   for (int steps = 0;; ++steps) {
     visited[static_cast<std::size_t>(count++ % kRing)] = cell;
     if (path) path->push_back(cell);
-    const std::array<float, 4> w = cell_weights(c, static_cast<std::uint32_t>(cell), p);
+    const std::array<float, 4> w = weights_at(c, cell, p);
     ProbeWalkResult r;
     r.steps = steps;
     if (any_nan(w)) return r;  // a degenerate cell: let the caller fall back
@@ -354,19 +368,37 @@ ProbeWalkResult ProbeTetWalk::locate(const glm::vec3& p, std::int32_t start,
   return r;
 }
 
-ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
-                             const std::array<std::int32_t, 4>& probes,
-                             const std::array<float, 4>& weights) {
-  ProbeSh out{};
-  const int n = cloud.bands * cloud.bands;
+namespace {
+template <int kCoeffs>
+void accumulate(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                const std::array<float, 4>& weights, ProbeSh& out) {
   for (std::size_t k = 0; k < 4; ++k) {
     const float w = weights[k];
     if (probes[k] < 0 || w == 0.0f) continue;
     const float* s = cloud.probe_sh(static_cast<std::size_t>(probes[k]));
     for (std::size_t ch = 0; ch < 3; ++ch)
-      for (int i = 0; i < n; ++i)
-        out[ch][static_cast<std::size_t>(i)] +=
-            w * s[ch * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)];
+      for (std::size_t i = 0; i < kCoeffs; ++i) out[ch][i] += w * s[ch * kCoeffs + i];
+  }
+}
+}  // namespace
+
+ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
+                             const std::array<std::int32_t, 4>& probes,
+                             const std::array<float, 4>& weights) {
+  ProbeSh out{};
+  switch (cloud.bands) {  // the coefficient count as a constant: unrolled, vectorised loops
+    case 2:
+      accumulate<4>(cloud, probes, weights, out);
+      break;
+    case 3:
+      accumulate<9>(cloud, probes, weights, out);
+      break;
+    case 4:
+      accumulate<16>(cloud, probes, weights, out);
+      break;
+    default:
+      throw std::invalid_argument("interpolate_probe_sh: the cloud has " +
+                                  std::to_string(cloud.bands) + " bands (2..4)");
   }
   return out;
 }

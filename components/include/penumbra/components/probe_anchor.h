@@ -14,6 +14,7 @@ struct ProbeAnchor {
   std::int32_t cell = -1;  // cached cell of the cloud (-1: none yet)
   std::uint64_t generation = 0;  // the cloud generation `cell` belongs to (0: none); another
                                  // generation means another cloud: the cell is not used
+  glm::vec3 point{0.0f};         // the sample point (world) `cell` was found for
   std::int32_t steps = 0;        // cells the last walk stepped across (debug, statistics)
   bool fallback = false;         // the last walk needed the fallback locate
 };

@@ -15,8 +15,9 @@
 //       the new cell, and the four probes' SH are interpolated into ProbeLighting::sample, then
 //       smoothed into ::irradiance (ProbeSettingsResource). A non-finite sample point (NaN/inf
 //       transform or offset) is skipped: the entity keeps its anchor and lighting, and the
-//       report names it. No cloud (or no walk): nothing is written. Every entity is walked every
-//       frame (the walk from a cached cell is a few ns when it did not move; no skip).
+//       report names it. No cloud (or no walk): nothing is written. Skipped: an entity whose
+//       sample point is bit-for-bit the one of its last walk, in the same cloud generation (its
+//       sample cannot have changed; only the smoothing advances).
 //
 // Threading: probes.walk shares one immutable ProbeTetWalk between chunks; each chunk writes
 // only its own rows and its own slot of the report's partials (merged in chunk order by the
@@ -62,7 +63,8 @@ struct ProbeWalkState {
 
 // Resource: what probes.walk did in the last frame.
 struct ProbeWalkReport {
-  std::size_t entities = 0;         // entities located
+  std::size_t entities = 0;         // entities located (walked) this frame
+  std::size_t unchanged = 0;        // entities skipped: same sample point and cloud as last frame
   std::size_t fallbacks = 0;        // of them, located by the fallback (no cache, teleport, cap)
   std::size_t steps = 0;            // cells stepped across, all entities together
   int max_steps = 0;                // the longest single walk

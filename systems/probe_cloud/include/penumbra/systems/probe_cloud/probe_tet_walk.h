@@ -128,6 +128,7 @@ class ProbeTetWalk {
 };
 
 // The SH of `probes` weighted by `weights` (probe -1 or weight 0 skipped), 4 bands zero-padded.
+// Throws std::invalid_argument when cloud.bands is not 2..4.
 ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
                              const std::array<std::int32_t, 4>& probes,
                              const std::array<float, 4>& weights);
