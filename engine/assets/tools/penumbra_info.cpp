@@ -2,7 +2,10 @@
 // with colour channels): size, radiance range and mean, 4-band SH per channel. glTF (.gltf,
 // .glb): meshes, vertices, triangles, nodes. Height map (.pgm, single-channel .exr): size, cell
 // size, height range. Sphere set (.psph): count, roots, radius range, bounds of the set, fit
-// method, Er, coverage, source model. On a load error prints the loader's message and exits 1.
+// method, Er, coverage, source model. Probe cloud (.pcld): probes, bands, inner tetrahedra,
+// outer cells, bounds, tetrahedra per probe, and the validation pass
+// (probe_cloud::validate_probe_cloud): OK or its errors. On a load error prints the loader's
+// message and exits 1; on a failed validation prints the errors and exits 1.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -16,8 +19,10 @@
 #include "penumbra/assets/exr.h"
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/heightmap.h"
+#include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/assets/sphere_file.h"
 #include "penumbra/sh/projection.h"
+#include "penumbra/systems/probe_cloud/probe_cloud_validation.h"
 
 namespace {
 
@@ -108,11 +113,45 @@ void print_spheres(const assets::SphereSetFile& f, const std::string& path, doub
   std::printf("  loaded in   %.2f ms\n", ms);
 }
 
+// Returns false when the validation failed (the errors are printed).
+bool print_probe_cloud(const data::ProbeCloud& c, const std::string& path, double ms) {
+  std::printf("probe cloud  %s\n", path.c_str());
+  const std::size_t n = c.probe_count();
+  const std::size_t outer = c.cells.size() - c.inner_count;
+  std::printf("  probes      %zu\n", n);
+  std::printf("  bands       %d (%zu SH coefficients per probe: 3 channels x %d)\n", c.bands,
+              c.coeffs_per_probe(), c.bands * c.bands);
+  std::printf("  tetrahedra  %u inner", c.inner_count);
+  if (n > 0) std::printf(" (%.3f per probe)", static_cast<double>(c.inner_count) / n);
+  std::printf("\n  outer cells %zu (hull faces)\n", outer);
+  if (n > 0) {
+    glm::vec3 lo = c.positions[0], hi = c.positions[0];
+    for (const glm::vec3& p : c.positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    std::printf("  bounds      (%.4g, %.4g, %.4g) .. (%.4g, %.4g, %.4g) m\n", lo.x, lo.y, lo.z,
+                hi.x, hi.y, hi.z);
+  }
+  if (c.cells.empty())
+    std::printf("  (no cells: fewer than 4 probes or all coplanar; lookups fall back)\n");
+  std::printf("  loaded in   %.2f ms\n", ms);
+  const auto t0 = Clock::now();
+  const probe_cloud::ProbeCloudValidation v = probe_cloud::validate_probe_cloud(c);
+  if (v.ok()) {
+    std::printf("  validation  OK (%.2f ms)\n", ms_since(t0));
+    return true;
+  }
+  std::printf("  validation  FAILED, %zu errors:\n", v.errors.size());
+  for (const std::string& e : v.errors) std::printf("    %s\n", e.c_str());
+  return false;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc != 2) {
-    std::fprintf(stderr, "usage: penumbra_info FILE (.exr, .gltf, .glb, .pgm, .psph)\n");
+    std::fprintf(stderr, "usage: penumbra_info FILE (.exr, .gltf, .glb, .pgm, .psph, .pcld)\n");
     return 2;
   }
   const std::filesystem::path path = argv[1];
@@ -133,8 +172,12 @@ int main(int argc, char** argv) {
     } else if (ext == ".psph") {
       const assets::SphereSetFile f = assets::load_sphere_file(path);
       print_spheres(f, path.string(), ms_since(t0));
+    } else if (ext == ".pcld") {
+      const data::ProbeCloud c = assets::load_probe_cloud_file(path);
+      if (!print_probe_cloud(c, path.string(), ms_since(t0))) return 1;
     } else {
-      std::fprintf(stderr, "%s: unknown file type (expected .exr, .gltf, .glb, .pgm or .psph)\n",
+      std::fprintf(stderr,
+                   "%s: unknown file type (expected .exr, .gltf, .glb, .pgm, .psph or .pcld)\n",
                    path.c_str());
       return 1;
     }
