@@ -76,28 +76,28 @@ std::string problem(const data::ProbeCloud& c) {
   const auto cell_count = static_cast<std::int64_t>(cells);
   for (std::size_t i = 0; i < cells; ++i) {
     const data::ProbeCell& cell = c.cells[i];
-    const std::string which = "cell " + std::to_string(i) + ": ";
+    const auto which = [i] { return "cell " + std::to_string(i) + ": "; };  // messages only
     const bool outer = cell.outer();
     if (i < c.inner_count && outer)
-      return which + "outer cell among the inner ones (inner count " +
+      return which() + "outer cell among the inner ones (inner count " +
              std::to_string(c.inner_count) + ")";
     if (i >= c.inner_count && !outer)
-      return which + "inner tetrahedron after the outer cells (inner count " +
+      return which() + "inner tetrahedron after the outer cells (inner count " +
              std::to_string(c.inner_count) + ")";
     for (int k = 0; k < (outer ? 3 : 4); ++k) {
       const std::int32_t v = cell.vertices[static_cast<std::size_t>(k)];
       if (v < 0 || v >= probes)
-        return which + "vertex " + std::to_string(v) + " out of range (" + std::to_string(n) +
+        return which() + "vertex " + std::to_string(v) + " out of range (" + std::to_string(n) +
                " probes)";
     }
     for (std::int32_t nb : cell.neighbours)
       if (nb < 0 || nb >= cell_count)
-        return which + "neighbour " + std::to_string(nb) + " out of range (" +
+        return which() + "neighbour " + std::to_string(nb) + " out of range (" +
                std::to_string(cells) + " cells)";
     const glm::mat4& m = c.transforms[i];
     for (int col = 0; col < 4; ++col)
       for (int row = 0; row < 4; ++row)
-        if (!std::isfinite(m[col][row])) return which + "non-finite transform";
+        if (!std::isfinite(m[col][row])) return which() + "non-finite transform";
   }
   return {};
 }
