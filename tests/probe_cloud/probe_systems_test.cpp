@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <limits>
 #include <random>
 #include <string>
@@ -214,35 +215,71 @@ TEST(ProbeSystems, ResultsDoNotDependOnTheThreadCount) {
 }
 
 // Quick timing (not a benchmark): run with --gtest_also_run_disabled_tests in a release build.
+// 2,000 random probes in a 40 m cube; entities moving 3 m/s at 60 Hz, either over the whole cube
+// (some outside the hull: outer cells) or in its middle 24 m (inner tetrahedra only).
 TEST(ProbeSystems, DISABLED_TimingMovingEntities) {
   const auto points = test::random_points(2000, 40.0f, 46);
   const auto cloud = make_cloud(points, test::random_sh(points.size(), 3, 47));
-  for (std::size_t n : {std::size_t{10000}, std::size_t{100000}}) {
-    Scene s(cloud, 2);
-    auto positions = test::random_points(n, 40.0f, 48);
-    s.spawn(positions);
-    s.run();
-    std::mt19937 rng(49);
-    std::uniform_real_distribution<float> step(-0.05f, 0.05f);  // 3 m/s at 60 Hz
-    double total = 0;
-    const int frames = 50;
-    std::size_t steps = 0, fallbacks = 0;
-    for (int f = 0; f < frames; ++f) {
+  const auto t_walk = std::chrono::steady_clock::now();
+  const ProbeTetWalk grid_only(cloud);
+  std::printf(
+      "walk + grid build: %.3f ms (%u cells)\n",
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_walk).count(),
+      static_cast<unsigned>(cloud->cells.size()));
+  // One thread's CPU time (not wall time: the machine is shared) per point of locate_batch.
+  for (const bool inside : {false, true}) {
+    auto positions = test::random_points(100000, inside ? 24.0f : 40.0f, 50);
+    if (inside)
+      for (glm::vec3& p : positions) p += glm::vec3(8.0f);
+    std::vector<std::int32_t> cells(positions.size(), -1);
+    std::vector<ProbeSh> out(positions.size());
+    grid_only.locate_batch(positions, cells, out);
+    std::mt19937 rng(51);
+    std::uniform_real_distribution<float> step(-0.05f, 0.05f);
+    double cpu_ns = 0;
+    for (int f = 0; f < 20; ++f) {
       for (glm::vec3& p : positions) p += glm::vec3(step(rng), step(rng), step(rng));
-      s.move(positions);
-      const auto t0 = std::chrono::steady_clock::now();
-      s.run();
-      total +=
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      steps += s.report().steps;
-      fallbacks += s.report().fallbacks;
+      timespec a{}, b{};
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &a);
+      grid_only.locate_batch(positions, cells, out);
+      clock_gettime(CLOCK_THREAD_CPUTIME_ID, &b);
+      cpu_ns += double(b.tv_sec - a.tv_sec) * 1e9 + double(b.tv_nsec - a.tv_nsec);
     }
-    std::printf(
-        "%zu entities, 2 threads: %.3f ms per frame, %.3f steps, %.5f fallbacks per "
-        "entity\n",
-        n, total / frames, double(steps) / double(n * frames),
-        double(fallbacks) / double(n * frames));
+    std::printf("%s: locate_batch %.1f ns CPU per point (one thread)\n",
+                inside ? "inside" : "whole cube", cpu_ns / (20.0 * double(positions.size())));
   }
+  for (const bool inside : {false, true})
+    for (std::size_t n : {std::size_t{10000}, std::size_t{100000}}) {
+      Scene s(cloud, 2);
+      auto positions = test::random_points(n, inside ? 24.0f : 40.0f, 48);
+      if (inside)
+        for (glm::vec3& p : positions) p += glm::vec3(8.0f);
+      s.spawn(positions);
+      s.run();
+      std::mt19937 rng(49);
+      std::uniform_real_distribution<float> step(-0.05f, 0.05f);
+      double total = 0;
+      const int frames = 50;
+      std::size_t steps = 0, fallbacks = 0, outer = 0;
+      for (int f = 0; f < frames; ++f) {
+        for (glm::vec3& p : positions) p += glm::vec3(step(rng), step(rng), step(rng));
+        s.move(positions);
+        const auto t0 = std::chrono::steady_clock::now();
+        s.run();
+        total += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                     .count();
+        steps += s.report().steps;
+        fallbacks += s.report().fallbacks;
+      }
+      for (ecs::Entity e : s.entities)
+        outer +=
+            static_cast<std::uint32_t>(s.world.get<ProbeAnchor>(e)->cell) >= cloud->inner_count;
+      std::printf(
+          "%s: %zu entities, 2 threads: %.3f ms per frame, %.3f steps, %.5f fallbacks "
+          "per entity, %.1f%% in outer cells\n",
+          inside ? "inside" : "whole cube", n, total / frames, double(steps) / double(n * frames),
+          double(fallbacks) / double(n * frames), 100.0 * double(outer) / double(n));
+    }
 }
 
 }  // namespace

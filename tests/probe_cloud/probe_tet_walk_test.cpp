@@ -321,6 +321,30 @@ TEST(ProbeTetWalk, BatchEqualsOneByOne) {
   EXPECT_THROW(walk.locate_batch(queries, cells, short_out), std::invalid_argument);
 }
 
+// 10 km from the origin at 1 m spacing (godotengine/godot #82642: a float epsilon broke 100 m
+// scenes): p - p3 is exact there (Sterbenz), so the walk is as sure as near the origin.
+TEST(ProbeTetWalk, FarFromTheOriginAtOneMetreSpacing) {
+  auto points = test::grid_points(8, 8, 8, 1.0f);
+  const glm::vec3 offset(10000.0f, -10000.0f, 300.0f);
+  for (glm::vec3& p : points) p += offset;
+  const ProbeTetWalk walk(make_cloud(points, test::affine_sh(points, 3)));
+  ASSERT_GT(walk.cloud().inner_count, 0u);
+  std::mt19937 rng(26);
+  std::uniform_real_distribution<float> u(-1.0f, 8.0f), jitter(-0.2f, 0.2f);
+  std::int32_t cached = -1;
+  glm::vec3 p = offset + glm::vec3(3.5f);
+  int fallbacks = 0;
+  for (int i = 0; i < 600; ++i) {
+    p = (i % 10 == 0) ? offset + glm::vec3(u(rng), u(rng), u(rng))
+                      : p + glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    ProbeWalkResult r;
+    ASSERT_NO_FATAL_FAILURE(check_against_brute_force(walk, p, cached, &r));
+    cached = r.cell;
+    fallbacks += (i % 10 != 0 && r.fallback) ? 1 : 0;
+  }
+  EXPECT_LE(fallbacks, 5);  // small moves walk
+}
+
 TEST(ProbeTetWalk, PathListsTheCellsVisited) {
   const auto points = test::grid_points(6, 6, 6, 1.0f);
   ProbeWalkSettings settings;
