@@ -81,7 +81,13 @@ std::vector<std::uint32_t> insertion_order(std::span<const glm::dvec3> points) {
 
 class Builder {
  public:
-  explicit Builder(std::vector<glm::dvec3> pts) : p_(std::move(pts)) {}
+  explicit Builder(std::vector<glm::dvec3> pts) : p_(std::move(pts)) {
+    // About 6.7 tetrahedra per point for random points, plus the hull: one allocation.
+    const std::size_t expected = 7 * p_.size() + 64;
+    cells_.reserve(expected);
+    visit_.reserve(expected);
+    in_conflict_.reserve(expected);
+  }
 
   // Starts from the tetrahedron of points a, b, c, d (not coplanar) and its four ghosts.
   void init(std::int32_t a, std::int32_t b, std::int32_t c, std::int32_t d) {

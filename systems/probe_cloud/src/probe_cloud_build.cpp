@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
-#include <unordered_map>
 
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
@@ -18,56 +18,78 @@
 namespace penumbra::probe_cloud {
 namespace {
 
-// Merges probes closer than `distance` to an earlier kept probe (a hash grid of cell size
-// `distance`, 27 cells searched); distance <= 0 merges exact duplicates only.
+// Merges probes closer than `distance` to an earlier kept probe: a hash grid of cell size
+// `distance` (open addressing, a linked list of kept probes per cell), 27 cells searched;
+// distance <= 0 merges exact duplicates only (cell size 0: one cell per position).
 std::vector<std::uint32_t> merge_duplicates(std::span<const glm::vec3> positions, float distance,
                                             std::vector<std::uint32_t>& kept) {
-  std::vector<std::uint32_t> map(positions.size());
+  const std::size_t n = positions.size();
+  std::vector<std::uint32_t> map(n);
   const double cell = distance > 0 ? double(distance) : 0.0;
   const double d2 = cell * cell;
-  auto key_of = [&](const glm::vec3& p, int dx, int dy, int dz) {
-    auto q = [&](float v, int d) -> std::int64_t {
-      if (cell == 0) return 0;
-      const double c = std::clamp(std::floor(double(v) / cell), -1e15, 1e15);
-      return static_cast<std::int64_t>(c) + d;
-    };
-    std::uint64_t h = static_cast<std::uint64_t>(q(p.x, dx)) * 0x9e3779b97f4a7c15ULL;
-    h ^= static_cast<std::uint64_t>(q(p.y, dy)) * 0xc2b2ae3d27d4eb4fULL + (h << 6) + (h >> 2);
-    h ^= static_cast<std::uint64_t>(q(p.z, dz)) * 0x165667b19e3779f9ULL + (h << 6) + (h >> 2);
-    if (cell == 0) {  // exact duplicates: hash the bits
-      for (float v : {p.x, p.y, p.z}) {
-        h = (h ^ std::hash<float>{}(v == 0.0f ? 0.0f : v)) * 0x100000001b3ULL;
-      }
+  using Key = std::array<std::int64_t, 3>;
+  auto key_of = [&](const glm::vec3& p) -> Key {
+    if (cell == 0) {  // exact duplicates: the coordinates' bits (+0 and -0 alike)
+      auto bits = [](float v) {
+        std::uint32_t u;
+        const float w = v == 0.0f ? 0.0f : v;
+        std::memcpy(&u, &w, sizeof u);
+        return static_cast<std::int64_t>(u);
+      };
+      return {bits(p.x), bits(p.y), bits(p.z)};
     }
+    auto q = [&](float v) {
+      return static_cast<std::int64_t>(std::clamp(std::floor(double(v) / cell), -1e15, 1e15));
+    };
+    return {q(p.x), q(p.y), q(p.z)};
+  };
+  auto hash = [](const Key& k) {
+    std::uint64_t h = static_cast<std::uint64_t>(k[0]) * 0x9e3779b97f4a7c15ULL;
+    h = (h ^ (h >> 29)) + static_cast<std::uint64_t>(k[1]) * 0xc2b2ae3d27d4eb4fULL;
+    h = (h ^ (h >> 31)) + static_cast<std::uint64_t>(k[2]) * 0x165667b19e3779f9ULL;
+    return h ^ (h >> 32);
+  };
+  constexpr std::uint32_t kEmpty = 0xffffffffu;
+  std::size_t size = 16;
+  while (size < 2 * n) size *= 2;
+  std::vector<Key> slot_key(size);
+  std::vector<std::uint32_t> head(size, kEmpty), next;  // per slot: newest kept probe
+  next.reserve(n);
+  auto find_slot = [&](const Key& k) {
+    std::size_t h = hash(k) & (size - 1);
+    while (head[h] != kEmpty && slot_key[h] != k) h = (h + 1) & (size - 1);
     return h;
   };
-  std::unordered_multimap<std::uint64_t, std::uint32_t> grid;
-  grid.reserve(positions.size());
-  for (std::size_t i = 0; i < positions.size(); ++i) {
+  const int r = cell > 0 ? 1 : 0;
+  for (std::size_t i = 0; i < n; ++i) {
     const glm::vec3& p = positions[i];
-    std::int64_t found = -1;
-    const int r = cell > 0 ? 1 : 0;
-    for (int dx = -r; dx <= r && found < 0; ++dx) {
-      for (int dy = -r; dy <= r && found < 0; ++dy) {
-        for (int dz = -r; dz <= r && found < 0; ++dz) {
-          auto [lo, hi] = grid.equal_range(key_of(p, dx, dy, dz));
-          for (auto it = lo; it != hi; ++it) {
-            const glm::dvec3 d = glm::dvec3(positions[kept[it->second]]) - glm::dvec3(p);
-            if ((cell > 0 && glm::dot(d, d) < d2) || (d.x == 0 && d.y == 0 && d.z == 0)) {
-              found = it->second;
+    const Key k = key_of(p);
+    std::uint32_t found = kEmpty;
+    for (int dx = -r; dx <= r && found == kEmpty; ++dx) {
+      for (int dy = -r; dy <= r && found == kEmpty; ++dy) {
+        for (int dz = -r; dz <= r && found == kEmpty; ++dz) {
+          const std::size_t h = find_slot({k[0] + dx, k[1] + dy, k[2] + dz});
+          for (std::uint32_t j = head[h]; j != kEmpty; j = next[j]) {
+            const glm::dvec3 d = glm::dvec3(positions[kept[j]]) - glm::dvec3(p);
+            if ((d.x == 0 && d.y == 0 && d.z == 0) || glm::dot(d, d) < d2) {
+              found = j;
               break;
             }
           }
         }
       }
     }
-    if (found >= 0) {
-      map[i] = static_cast<std::uint32_t>(found);
-    } else {
-      map[i] = static_cast<std::uint32_t>(kept.size());
-      grid.emplace(key_of(p, 0, 0, 0), map[i]);
-      kept.push_back(static_cast<std::uint32_t>(i));
+    if (found != kEmpty) {
+      map[i] = found;
+      continue;
     }
+    const auto id = static_cast<std::uint32_t>(kept.size());
+    map[i] = id;
+    kept.push_back(static_cast<std::uint32_t>(i));
+    const std::size_t h = find_slot(k);
+    slot_key[h] = k;
+    next.push_back(head[h]);
+    head[h] = id;
   }
   return map;
 }
