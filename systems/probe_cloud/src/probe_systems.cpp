@@ -23,6 +23,7 @@ using components::ProbeLighting;
 using components::Transform;
 
 static_assert(ProbeLighting::kBands == kProbeShBands);
+constexpr std::size_t kMaxErrors = 20;  // entities named per frame in the report
 
 std::string entity_name(ecs::Entity e) {
   return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
@@ -71,7 +72,8 @@ void smooth_towards(ProbeLighting& l, float alpha) {
 struct Partial {
   std::size_t entities = 0, unchanged = 0, fallbacks = 0, steps = 0;
   int max_steps = 0;
-  std::vector<std::string> errors;
+  std::size_t rejected = 0;
+  std::vector<std::string> errors;  // the first kMaxErrors of this chunk
 };
 
 void walk_chunk(jobs::SystemContext& ctx,
@@ -94,6 +96,7 @@ void walk_chunk(jobs::SystemContext& ctx,
     ProbeAnchor& a = anchors[i];
     const glm::vec3 p = glm::vec3(transforms[i].world * glm::vec4(a.offset, 1.0f));
     if (!finite(p)) {
+      if (out.rejected++ >= kMaxErrors) continue;
       out.errors.push_back(entity_name(entities[i]) +
                            ": probe sample point is not finite (transform or anchor offset); "
                            "skipped, its lighting kept");
@@ -174,8 +177,13 @@ void add_probe_cloud_systems(jobs::Schedule& schedule) {
       report.fallbacks += p.fallbacks;
       report.steps += p.steps;
       report.max_steps = std::max(report.max_steps, p.max_steps);
-      for (std::string& e : p.errors) report.errors.push_back(std::move(e));
+      report.rejected += p.rejected;
+      for (std::string& e : p.errors)
+        if (report.errors.size() < kMaxErrors) report.errors.push_back(std::move(e));
     }
+    if (report.rejected > report.errors.size())
+      report.errors.push_back("... and " + std::to_string(report.rejected - report.errors.size()) +
+                              " more entities with a non-finite sample point");
   };
 }
 

@@ -63,12 +63,14 @@ struct ProbeWalkState {
 
 // Resource: what probes.walk did in the last frame.
 struct ProbeWalkReport {
-  std::size_t entities = 0;         // entities located (walked) this frame
-  std::size_t unchanged = 0;        // entities skipped: same sample point and cloud as last frame
-  std::size_t fallbacks = 0;        // of them, located by the fallback (no cache, teleport, cap)
-  std::size_t steps = 0;            // cells stepped across, all entities together
-  int max_steps = 0;                // the longest single walk
-  std::vector<std::string> errors;  // entities skipped this frame, each named with the reason
+  std::size_t entities = 0;   // entities located (walked) this frame
+  std::size_t unchanged = 0;  // entities skipped: same sample point and cloud as last frame
+  std::size_t fallbacks = 0;  // of them, located by the fallback (no cache, teleport, cap)
+  std::size_t steps = 0;      // cells stepped across, all entities together
+  int max_steps = 0;          // the longest single walk
+  std::size_t rejected = 0;   // entities skipped for a non-finite sample point
+  // The first 20 of them, each named with the reason, then "... and N more".
+  std::vector<std::string> errors;
 };
 
 // Adds ProbeCloudResource (holding `cloud`, generation 1 when given), ProbeSettingsResource,
