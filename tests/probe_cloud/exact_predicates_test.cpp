@@ -134,6 +134,35 @@ TEST(ExactPredicates, InexactDifferencesUseTheExpansionPath) {
   EXPECT_GE(exact_fallback_count(), 1u);
 }
 
+TEST(ExactPredicates, MixedMagnitudesAreConsistentUnderSymmetries) {
+  // Near-degenerate sets with coordinates of wildly different exponents (differences round, so
+  // the full expansion path runs): the exact sign must flip under an odd permutation, survive an
+  // even one, and survive scaling by a power of two.
+  std::mt19937_64 rng(13);
+  std::uniform_int_distribution<int> pick(0, 5);
+  const double mags[6] = {0.0, 1e-30, 3e-9, 1.0, 1e6 + 0.125, 7e11};
+  auto coord = [&] { return (rng() & 1 ? 1 : -1) * mags[pick(rng)] * (1 + (rng() % 8) * 0x1p-50); };
+  reset_exact_fallback_count();
+  for (int i = 0; i < 3000; ++i) {
+    V p[5];
+    for (V& q : p) q = V(coord(), coord(), coord());
+    if (i % 2) p[4] = p[0] + (p[1] - p[0]) * 0.5;  // nearly on an edge: nearly degenerate
+    const int o = sign(orient3d(p[0], p[1], p[2], p[3]));
+    ASSERT_EQ(sign(orient3d(p[1], p[0], p[2], p[3])), -o);
+    ASSERT_EQ(sign(orient3d(p[1], p[2], p[0], p[3])), o);
+    ASSERT_EQ(sign(orient3d(p[0] * 0x1p-40, p[1] * 0x1p-40, p[2] * 0x1p-40, p[3] * 0x1p-40)), o);
+    const int s = sign(insphere(p[0], p[1], p[2], p[3], p[4]));
+    ASSERT_EQ(sign(insphere(p[1], p[0], p[2], p[3], p[4])), -s);
+    ASSERT_EQ(sign(insphere(p[2], p[3], p[0], p[1], p[4])), s);
+    ASSERT_EQ(sign(insphere(p[0] * 0x1p-20, p[1] * 0x1p-20, p[2] * 0x1p-20, p[3] * 0x1p-20,
+                            p[4] * 0x1p-20)),
+              s);
+    // The 4x4 determinant is symmetric in all five points up to sign: e swapped with a.
+    ASSERT_EQ(sign(insphere(p[4], p[1], p[2], p[3], p[0])), -s);
+  }
+  EXPECT_GT(exact_fallback_count(), 100u);
+}
+
 TEST(ExactPredicates, PerturbationBreaksCosphericalTiesConsistently) {
   // All 8 corners of a cube are cospherical. For any tetrahedron of them and a fifth corner,
   // the perturbed sign is never 0, does not depend on how the tetrahedron is written (an even
