@@ -64,7 +64,7 @@ void eval_basis_lanes(const Lanes& x, const Lanes& y, const Lanes& z, Lanes* out
 
 template <int N>
 void add_cap_lanes(const Lanes& x, const Lanes& y, const Lanes& z, const Lanes& cos_angle,
-                   const Lanes& scale, Lanes* acc) {
+                   const Lanes& scale, Lanes* acc, Lanes* basis_out) {
   Lanes p[N + 1];  // Legendre P_0..P_N at the caps' cosines
   p[0] = splat(1.0f);
   p[1] = cos_angle;
@@ -79,6 +79,8 @@ void add_cap_lanes(const Lanes& x, const Lanes& y, const Lanes& z, const Lanes& 
     const Lanes k = s * (below - p[l + 1]) * (1.0f / static_cast<float>(2 * l + 1));
     for (int m = -l; m <= l; ++m) acc[index(l, m)] += k * basis[index(l, m)];
   }
+  if (basis_out)
+    for (int i = 0; i < N * N; ++i) basis_out[i] = basis[i];
 }
 
 template <int N>
@@ -97,7 +99,7 @@ float evaluate(const Coeffs<N>& f, const glm::vec3& dir) {
   template float evaluate<N>(const Coeffs<N>&, const glm::vec3&);                          \
   template void eval_basis_lanes<N>(const Lanes&, const Lanes&, const Lanes&, Lanes*);     \
   template void add_cap_lanes<N>(const Lanes&, const Lanes&, const Lanes&, const Lanes&,   \
-                                 const Lanes&, Lanes*);
+                                 const Lanes&, Lanes*, Lanes*);
 PENUMBRA_SH_INSTANTIATE(2)
 PENUMBRA_SH_INSTANTIATE(3)
 PENUMBRA_SH_INSTANTIATE(4)

@@ -220,74 +220,74 @@ void BlockerAccumulation<N>::set_lights(std::vector<LightSource> lights) {
 }
 
 template <int N>
-sh::Coeffs<N> BlockerAccumulation<N>::accumulate(const glm::vec3& p, const glm::vec3& n,
-                                                 Contributors& contributors) const {
-  sh::Coeffs<N> sum{};
+template <class Add>
+void BlockerAccumulation<N>::for_each_blocker(const glm::vec3& p, Add&& add) const {
   const bool cut = settings_.hierarchy == BlockerHierarchy::kObjects;
   const BlockerGrid::Candidates c = grid_.candidates(p);
-  // Every (sphere, scale) this receiver sees, as the hierarchy's cut decides ([Ren06]: below the
-  // cut the bound stands for its spheres; over [cut, 1.25 cut] the two are blended in log space
-  // so a receiver crossing the cut sees no step).
-  const auto for_each_blocker = [&](auto&& add) {
-    for (const auto list : {c.near, c.everywhere})
-      for (const std::uint32_t gi : list) {
-        const BlockerGroup& g = groups_[gi];
-        if (g.count == 1) {
-          add(spheres_[g.first], 1.0f);
-          continue;
-        }
-        const float d = glm::length(g.bound.centre - p);
-        const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
-        const float a = cut ? std::clamp((s - cut_sin_) / (0.25f * cut_sin_), 0.0f, 1.0f) : 1.0f;
-        if (a < 1) add(g.bound, g.coverage * (1 - a));
-        if (a > 0)
-          for (std::uint32_t i = g.first; i < g.first + g.count; ++i) add(spheres_[i], a);
+  for (const auto list : {c.near, c.everywhere})
+    for (const std::uint32_t gi : list) {
+      const BlockerGroup& g = groups_[gi];
+      if (g.count == 1) {
+        add(spheres_[g.first], 1.0f);
+        continue;
       }
-  };
-  if (!clipped_log_) {  // the eps cap: eight blockers per step (blocker_log_sum.h)
-    BlockerLogSum<N> lanes(p, n, settings_.blocker, log_eps_);
-    for_each_blocker(
-        [&](const WorldSphere& s, float scale) { lanes.add(s.centre, s.radius, scale); });
-    lanes.finish(sum);
-    contributors.views += lanes.views();
-    contributors.adds += lanes.adds();
-    contributors.weight += lanes.weight();
-    for (const glm::vec3& axis : lanes.axes())
-      if (contributors.count < Contributors::kMaxAxes)
-        contributors.axes[contributors.count++] = axis;
-    return sum;
-  }
-  for_each_blocker([&](const WorldSphere& s, float scale) {
-    BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
-    ++contributors.views;
-    v.weight *= scale;
-    if (!(v.weight > 0)) return;
-    const float depth = add_blocker_log(v, sum);
-    ++contributors.adds;
-    contributors.weight += v.weight * depth;
-    if (contributors.count < Contributors::kMaxAxes)
-      contributors.axes[contributors.count++] = v.axis;
-  });
-  return sum;
+      // [Ren06]: below the cut the bound stands for its spheres; over [cut, 1.25 cut] the two
+      // are blended (in log space) so a receiver crossing the cut sees no step.
+      const float d = glm::length(g.bound.centre - p);
+      const float s = d > g.bound.radius ? g.bound.radius / d : 1.0f;
+      const float a = cut ? std::clamp((s - cut_sin_) / (0.25f * cut_sin_), 0.0f, 1.0f) : 1.0f;
+      if (a < 1) add(g.bound, g.coverage * (1 - a));
+      if (a > 0)
+        for (std::uint32_t i = g.first; i < g.first + g.count; ++i) add(spheres_[i], a);
+    }
 }
 
 template <int N>
 sh::Coeffs<N> BlockerAccumulation<N>::log_visibility(const glm::vec3& p, const glm::vec3& n,
                                                      PairCounts* counts) const {
-  Contributors c;
-  sh::Coeffs<N> sum = accumulate(p, n, c);
-  if (counts) {
-    counts->views += c.views;
-    counts->adds += c.adds;
-  }
+  sh::Coeffs<N> sum{};
   const float max_depth = settings_.blocker.max_depth;
-  if (!(max_depth > 0) || c.weight <= max_depth) return sum;  // cannot be that deep
-  if (counts) counts->depth_evaluations += static_cast<std::size_t>(c.count);
-  float deepest = 0;                 // in units of log eps (positive)
-  float at[Contributors::kMaxAxes];  // the sum at each axis, eight axes per step
-  sh::evaluate_batch<N>(sum, std::span<const glm::vec3>(c.axes, static_cast<std::size_t>(c.count)),
-                        std::span<float>(at, static_cast<std::size_t>(c.count)));
-  for (int k = 0; k < c.count; ++k) deepest = std::max(deepest, at[k] / log_eps_);
+  PairCounts tally;
+  float lowest = 0;     // the sum's lowest value at its blockers' axes, once the limit may apply
+  if (!clipped_log_) {  // the eps cap: eight blockers per step (blocker_log_sum.h)
+    BlockerLogSum<N> lanes(p, n, settings_.blocker, log_eps_);
+    for_each_blocker(
+        p, [&](const WorldSphere& s, float scale) { lanes.add(s.centre, s.radius, scale); });
+    lanes.finish(sum);
+    tally.views = lanes.views();
+    tally.adds = lanes.adds();
+    if (max_depth > 0 && lanes.weight() > max_depth) {  // else it cannot be that deep
+      lowest = lanes.lowest_at_axes(sum);
+      tally.depth_evaluations = static_cast<std::size_t>(lanes.axis_count());
+    }
+  } else {
+    constexpr int kMaxAxes = 64;  // axes the depth limit looks at
+    glm::vec3 axes[kMaxAxes];
+    int count = 0;
+    float weight = 0;
+    for_each_blocker(p, [&](const WorldSphere& s, float scale) {
+      BlockerView v = view_blocker(p, n, s.centre, s.radius, settings_.blocker);
+      ++tally.views;
+      v.weight *= scale;
+      if (!(v.weight > 0)) return;
+      weight += v.weight * add_blocker_log(v, sum);
+      ++tally.adds;
+      if (count < kMaxAxes) axes[count++] = v.axis;
+    });
+    if (max_depth > 0 && weight > max_depth) {
+      float at[kMaxAxes];  // the sum at each axis, eight axes per step
+      sh::evaluate_batch<N>(sum, std::span<const glm::vec3>(axes, static_cast<std::size_t>(count)),
+                            std::span<float>(at, static_cast<std::size_t>(count)));
+      for (int k = 0; k < count; ++k) lowest = std::min(lowest, at[k]);
+      tally.depth_evaluations = static_cast<std::size_t>(count);
+    }
+  }
+  if (counts) {
+    counts->views += tally.views;
+    counts->adds += tally.adds;
+    counts->depth_evaluations += tally.depth_evaluations;
+  }
+  const float deepest = lowest / log_eps_;  // in units of log eps (positive)
   if (deepest > max_depth) {
     const float scale = max_depth / deepest;
     for (float& x : sum) x *= scale;

@@ -1,5 +1,7 @@
 #include "penumbra/systems/blocker_accumulation/blocker_log_sum.h"
 
+#include <algorithm>
+
 namespace penumbra::blocker_accumulation {
 namespace {
 using sh::Lanes;
@@ -67,21 +69,30 @@ void BlockerLogSum<N>::flush() {
   w = sh::select(valid, w * sh::load_lanes(scale_), Lanes{});
   w = sh::select(w > 0.0f, w, Lanes{});
   const Lanes cos_angle = sh::lane_sqrt(1.0f - sin_angle * sin_angle);
-  sh::add_cap_lanes<N>(ax, ay, az, cos_angle, w * log_eps_, acc_);  // [Giraud] eq. 26
-  const sh::LaneMask used = w > 0.0f;
+  const unsigned used = sh::lane_bits(w > 0.0f);
+  adds_ += static_cast<std::size_t>(__builtin_popcount(used));
   weight_lanes_ += w;
-  const unsigned mask = sh::lane_bits(used);
-  adds_ += static_cast<std::size_t>(__builtin_popcount(mask));
-  if (mask != 0 && axis_count_ < kMaxAxes) {  // the used lanes' axes, in lane order
-    alignas(32) float xl[sh::kLaneCount], yl[sh::kLaneCount], zl[sh::kLaneCount];
-    sh::store_lanes(ax, xl);
-    sh::store_lanes(ay, yl);
-    sh::store_lanes(az, zl);
-    for (int l = 0; l < sh::kLaneCount && axis_count_ < kMaxAxes; ++l) {
-      axes_[axis_count_] = glm::vec3(xl[l], yl[l], zl[l]);
-      axis_count_ += (mask >> l) & 1;
-    }
+  const bool keep = used != 0 && steps_ < kMaxSteps;               // its axes, for the depth limit
+  sh::add_cap_lanes<N>(ax, ay, az, cos_angle, w * log_eps_, acc_,  // [Giraud] eq. 26
+                       keep ? basis_[steps_] : nullptr);
+  if (keep) {
+    used_[steps_++] = used;
+    axis_count_ += __builtin_popcount(used);
   }
+}
+
+template <int N>
+float BlockerLogSum<N>::lowest_at_axes(const sh::Coeffs<N>& sum) const {
+  float lowest = 0;
+  for (int k = 0; k < steps_; ++k) {
+    Lanes v{};
+    for (int i = 0; i < N * N; ++i) v += sum[i] * basis_[k][i];
+    alignas(32) float at[sh::kLaneCount];
+    sh::store_lanes(v, at);
+    for (int l = 0; l < sh::kLaneCount; ++l)
+      if ((used_[k] >> l) & 1) lowest = std::min(lowest, at[l]);
+  }
+  return lowest;
 }
 
 template <int N>

@@ -168,7 +168,18 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
     std::vector<std::uint32_t> far_spheres;
     float far_weight = 0;
     int far_axes = 0;
-    std::array<float, kMaxFarAxes * N * N> far_basis;  // y_i at each far group's axis
+    // y_i at each far group's axis, eight axes per step (lane l of step k: axis 8 k + l).
+    sh::Lanes far_basis[kMaxFarAxes / sh::kLaneCount][N * N];
+    const auto add_far_axis = [&](const glm::vec3& axis) {
+      if (far_axes >= kMaxFarAxes) return;
+      float y[N * N];
+      sh::eval_basis<N>(axis, y);
+      const int step = far_axes / sh::kLaneCount, lane = far_axes % sh::kLaneCount;
+      if (lane == 0)
+        for (sh::Lanes& b : far_basis[step]) b = sh::Lanes{};
+      for (int i = 0; i < N * N; ++i) far_basis[step][i][lane] = y[i];
+      ++far_axes;
+    };
     const float alpha = std::acos(std::clamp(cl.cos_cone, -1.0f, 1.0f));
     // The view of sphere s from the centre with the plane rule neutral (normal towards s: the
     // sphere is then wholly above the plane, weight 1), as at every receiver of a far group.
@@ -207,8 +218,7 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
             far_lanes.add(acc.spheres_[k].centre, acc.spheres_[k].radius, 1);
             far_spheres.push_back(k);
           }
-          if (far_axes < kMaxFarAxes)
-            sh::eval_basis<N>(to / d, far_basis.data() + N * N * far_axes++);
+          add_far_axis(to / d);
           continue;
         }
         float w = 0;
@@ -224,8 +234,7 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         }
         if (w > 0) {
           far_weight += w;
-          if (far_axes < kMaxFarAxes)
-            sh::eval_basis<N>(axis, far_basis.data() + N * N * far_axes++);
+          add_far_axis(axis);
         }
         continue;
       }
@@ -283,33 +292,39 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
         for (int i = 0; i < N * N; ++i) far_gradient[a][i] = (at[i] - far[i]) / h;
       }
     }
+    // The lowest value of `sum` at the far groups' axes (eight per step).
+    const auto lowest_at_far_axes = [&](const sh::Coeffs<N>& sum) {
+      float lowest = 0;
+      for (int k = 0; k * sh::kLaneCount < far_axes; ++k) {
+        sh::Lanes v{};
+        for (int i = 0; i < N * N; ++i) v += sum[i] * far_basis[k][i];
+        alignas(32) float at[sh::kLaneCount];
+        sh::store_lanes(v, at);
+        for (int l = 0; l < sh::kLaneCount && k * sh::kLaneCount + l < far_axes; ++l)
+          lowest = std::min(lowest, at[l]);
+      }
+      return lowest;
+    };
     // Deepest the far sum reaches at its own axes (in log eps): a receiver whose near weight
     // cannot take that past max_depth skips evaluating its sum there.
-    float far_deepest = 0;
-    for (int k = 0; k < far_axes; ++k) {
-      const float* y = far_basis.data() + N * N * k;
-      float v = 0;
-      for (int i = 0; i < N * N; ++i) v += far[i] * y[i];
-      far_deepest = std::max(far_deepest, v / log_eps);
-    }
-    constexpr int kMaxAxes = 64;  // near axes per receiver the depth limit looks at
-    // The depth limit of BlockerAccumulation::log_visibility over the far axes and `axes`.
-    const auto depth_limit = [&](sh::Coeffs<N>& sum, float weight, const glm::vec3* axes, int count,
-                                 float near_weight) {
+    const float far_deepest = lowest_at_far_axes(far) / log_eps;
+    constexpr int kMaxAxes = 64;  // scalar-path near axes per receiver the depth limit looks at
+    // The depth limit of BlockerAccumulation::log_visibility over the far axes, the lane path's
+    // near axes (`pairs`) and the scalar path's (`axes`).
+    const auto depth_limit = [&](sh::Coeffs<N>& sum, float weight, float near_weight,
+                                 const BlockerLogSum<N>* pairs, const glm::vec3* axes, int count) {
       if (!(max_depth > 0) || weight <= max_depth) return;
-      float deepest = 0;
+      float lowest = 0;
       const bool far_too = far_deepest + near_weight > max_depth;
-      for (int k = 0; far_too && k < far_axes; ++k) {
-        const float* y = far_basis.data() + N * N * k;
-        float v = 0;
-        for (int i = 0; i < N * N; ++i) v += sum[i] * y[i];
-        deepest = std::max(deepest, v / log_eps);
-      }
-      float at[kMaxAxes];  // the sum at each near axis, eight axes per step
+      if (far_too) lowest = lowest_at_far_axes(sum);
+      if (pairs) lowest = std::min(lowest, pairs->lowest_at_axes(sum));
+      float at[kMaxAxes];  // the sum at each scalar-path axis, eight axes per step
       sh::evaluate_batch<N>(sum, std::span<const glm::vec3>(axes, static_cast<std::size_t>(count)),
                             std::span<float>(at, static_cast<std::size_t>(count)));
-      for (int k = 0; k < count; ++k) deepest = std::max(deepest, at[k] / log_eps);
-      cnt.depth_evaluations += static_cast<std::size_t>((far_too ? far_axes : 0) + count);
+      for (int k = 0; k < count; ++k) lowest = std::min(lowest, at[k]);
+      cnt.depth_evaluations += static_cast<std::size_t>((far_too ? far_axes : 0) + count +
+                                                        (pairs ? pairs->axis_count() : 0));
+      const float deepest = lowest / log_eps;
       if (deepest > max_depth) {
         const float scale = max_depth / deepest;
         for (float& x : sum) x *= scale;
@@ -317,7 +332,7 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
     };
     // The cluster's shared result (receivers with no near blocker).
     sh::Coeffs<N> far_limited = far;
-    depth_limit(far_limited, far_weight, nullptr, 0, far_deepest + max_depth);
+    depth_limit(far_limited, far_weight, far_deepest + max_depth, nullptr, nullptr, 0);
     sh::Coeffs<N> far_visibility{};
     sh::CoeffsRgb<N> far_lit{};  // exp(far) * L per channel: E = far_lit . cosine lobe
     if (product_path) {
@@ -406,8 +421,6 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       cnt.receiver_views += pairs.views();
       adds += pairs.adds();
       weight += pairs.weight();
-      for (const glm::vec3& axis : pairs.axes())
-        if (axis_count < kMaxAxes) axes[axis_count++] = axis;
       cnt.receiver_adds += adds;
       const std::uint32_t out = order_[k];
       sh::Coeffs<N>* vis = visibility.empty() ? nullptr : &visibility[out];
@@ -430,7 +443,7 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
           sum[i] +=
               far_gradient[0][i] * dp.x + far_gradient[1][i] * dp.y + far_gradient[2][i] * dp.z;
       }
-      depth_limit(sum, weight + far_weight, axes, axis_count, weight);
+      depth_limit(sum, weight + far_weight, weight, &pairs, axes, axis_count);
       if (product_path) {
         pending.set(lanes, sum);
         pending_normal.set(lanes, n);

@@ -86,9 +86,10 @@ void eval_basis_lanes(const Lanes& x, const Lanes& y, const Lanes& z, Lanes* out
 // acc[i] += scale * cap_i for eight caps: cap_i the SH of the indicator of the cap about the
 // unit axis (x, y, z) whose half-angle has cosine `cos_angle` (zh.h zh_cap, rotated):
 // coefficient (l, m) gains scale 2 pi / (2l + 1) (P_{l-1}(c) - P_{l+1}(c)) y_lm(axis), P_{-1} = 1
-// ([Giraud] eq. 26 with scale = weight log eps). Lanes with scale 0 add nothing.
+// ([Giraud] eq. 26 with scale = weight log eps). Lanes with scale 0 add nothing. `basis`, when
+// given, receives y_i at the axes (N*N lanes), as eval_basis_lanes.
 template <int N>
 void add_cap_lanes(const Lanes& x, const Lanes& y, const Lanes& z, const Lanes& cos_angle,
-                   const Lanes& scale, Lanes* acc);
+                   const Lanes& scale, Lanes* acc, Lanes* basis = nullptr);
 
 }  // namespace penumbra::sh

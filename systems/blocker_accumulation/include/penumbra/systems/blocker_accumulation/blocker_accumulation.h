@@ -168,15 +168,10 @@ class BlockerAccumulation {
   template <int>
   friend class ReceiverClusters;  // reads the groups, spheres and cut (receiver_clusters.h)
 
-  // The raw sum (no depth limit); also the axes and summed weight of the blockers in it.
-  struct Contributors {
-    static constexpr int kMaxAxes = 64;
-    glm::vec3 axes[kMaxAxes];
-    int count = 0;
-    float weight = 0;
-    std::size_t views = 0, adds = 0;
-  };
-  sh::Coeffs<N> accumulate(const glm::vec3& p, const glm::vec3& n, Contributors& c) const;
+  // Calls add(sphere, scale) for every sphere the receiver at p sees, as the hierarchy's cut
+  // decides (the bound, its spheres or both, blended).
+  template <class Add>
+  void for_each_blocker(const glm::vec3& p, Add&& add) const;
   // One blocker's log-SH added to `sum` by settings().blocker.log; returns its depth at the
   // axis in units of log eps (1 for the eps cap).
   float add_blocker_log(const BlockerView& v, sh::Coeffs<N>& sum) const;

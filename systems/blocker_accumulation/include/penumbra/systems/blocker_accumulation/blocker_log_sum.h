@@ -8,7 +8,6 @@
 #pragma once
 
 #include <cstddef>
-#include <span>
 
 #include <glm/vec3.hpp>
 
@@ -21,8 +20,9 @@ namespace penumbra::blocker_accumulation {
 template <int N>
 class BlockerLogSum {
  public:
-  // Axes kept for the depth limit (blocker_accumulation.h); beyond it, further axes are dropped.
-  static constexpr int kMaxAxes = 64;
+  // Steps of eight blockers whose axes the depth limit looks at (blocker_accumulation.h): the
+  // first kMaxSteps steps with a blocker of weight > 0; later ones are not looked at.
+  static constexpr int kMaxSteps = 16;
 
   // Receiver p with unit normal n; log_eps = log(settings.epsilon).
   BlockerLogSum(const glm::vec3& p, const glm::vec3& n, const SphereBlockerSettings& settings,
@@ -48,9 +48,12 @@ class BlockerLogSum {
   std::size_t views() const { return views_; }  // spheres added
   std::size_t adds() const { return adds_; }    // of those, with weight > 0
   float weight() const { return weight_; }      // summed weights (log eps units; after finish)
-  std::span<const glm::vec3> axes() const {     // axes of the blockers with weight > 0
-    return {axes_, static_cast<std::size_t>(axis_count_)};
-  }
+  // The lowest value `sum` takes at the axes of the blockers with weight > 0 (the deepest point
+  // of a log-visibility, which is <= 0 there), from the basis the caps were built with; 0 when
+  // there is none. For the depth limit.
+  float lowest_at_axes(const sh::Coeffs<N>& sum) const;
+  int axis_steps() const { return steps_; }       // steps kept for lowest_at_axes
+  int axis_count() const { return axis_count_; }  // axes in them (blockers with weight > 0)
 
  private:
   void flush();
@@ -66,7 +69,9 @@ class BlockerLogSum {
   sh::Lanes weight_lanes_;
   float weight_ = 0;
   std::size_t views_ = 0, adds_ = 0;
-  glm::vec3 axes_[kMaxAxes];
+  sh::Lanes basis_[kMaxSteps][N * N];  // per kept step, y_i at its lanes' axes
+  unsigned used_[kMaxSteps];           // per kept step, the lanes with weight > 0
+  int steps_ = 0;
   int axis_count_ = 0;
 };
 
