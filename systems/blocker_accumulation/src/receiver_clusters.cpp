@@ -180,7 +180,9 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       for (int i = 0; i < N * N; ++i) far_basis[step][i][lane] = y[i];
       ++far_axes;
     };
-    const float alpha = std::acos(std::clamp(cl.cos_cone, -1.0f, 1.0f));
+    // The normal cone's half-angle alpha, as its cosine and sine.
+    const float cos_a = std::clamp(cl.cos_cone, -1.0f, 1.0f);
+    const float sin_a = std::sqrt(std::max(0.0f, 1 - cos_a * cos_a));
     // The view of sphere s from the centre with the plane rule neutral (normal towards s: the
     // sphere is then wholly above the plane, weight 1), as at every receiver of a far group.
     const auto centre_view = [&](const WorldSphere& s, const SphereBlockerSettings& bs) {
@@ -200,10 +202,15 @@ void ReceiverClusters<N>::shade(const BlockerAccumulation<N>& acc, const sh::Coe
       const float d = glm::length(to);
       if (min_sin > 0 && d - cl.radius > influence_radius(r, min_sin)) continue;  // out of reach
       // Bounds on n_i . (c - p_i) = n_i . (c - x_C) - n_i . (p_i - x_C) over the cluster.
-      const float beta =
-          d > 0 ? std::acos(std::clamp(glm::dot(to, cl.normal) / d, -1.0f, 1.0f)) : 0;
-      const float lo = d * std::cos(std::min(std::numbers::pi_v<float>, beta + alpha)) - cl.h_max;
-      const float hi = d * std::cos(std::max(0.0f, beta - alpha)) - cl.h_min;
+      // beta: the angle between the cone axis and the bound's direction. Over the cone the
+      // normals make angles in [beta - alpha, beta + alpha] with it, clamped to [0, pi]:
+      // cos(min(pi, beta + alpha)) and cos(max(0, beta - alpha)) without the trigonometry.
+      const float cos_b = d > 0 ? std::clamp(glm::dot(to, cl.normal) / d, -1.0f, 1.0f) : 1.0f;
+      const float sin_b = std::sqrt(std::max(0.0f, 1 - cos_b * cos_b));
+      const float cos_far = cos_a < -cos_b ? -1.0f : cos_b * cos_a - sin_b * sin_a;
+      const float cos_near = cos_b > cos_a ? 1.0f : cos_b * cos_a + sin_b * sin_a;
+      const float lo = d * cos_far - cl.h_max;
+      const float hi = d * cos_near - cl.h_min;
       if (hi + r <= 0) continue;  // below every receiver's tangent plane: culled everywhere
       const bool above = lo >= r;
       const float gap = d - cl.radius;  // nearest receiver to the bound's centre, at least
