@@ -14,14 +14,14 @@ namespace penumbra::probe_cloud {
 namespace {
 
 constexpr double kEps = 0x1p-53;  // half an ulp of 1: the unit roundoff
-// Relative error bounds of the plain double evaluations below ([Shewchuk97] sec. 4.3, the
+// Relative error bounds of the plain double evaluations below ([Shewchuk97] sec. 4, the
 // "A" bounds of orient3d and insphere for the same evaluation order).
 constexpr double kOrientBound = (7.0 + 56.0 * kEps) * kEps;
 constexpr double kInsphereBound = (16.0 + 224.0 * kEps) * kEps;
 
 thread_local std::uint64_t g_exact_calls = 0;
 
-// ---- Error-free transformations ([Shewchuk97] sec. 2.3-2.4) ------------------------------
+// ---- Error-free transformations ([Shewchuk97] sec. 2) ------------------------------------
 
 inline void two_sum(double a, double b, double& x, double& y) {
   x = a + b;
@@ -98,7 +98,7 @@ struct Expansion {
   int sign() const { return n == 0 ? 0 : (v[n - 1] > 0 ? 1 : (v[n - 1] < 0 ? -1 : 0)); }
 };
 
-// e + f: merge by magnitude, then a chain of two-sums ([Shewchuk97] theorem 13).
+// e + f: merge by magnitude, then a chain of two-sums ([Shewchuk97] sec. 2, fast expansion sum).
 Expansion add(Expansion e, Expansion f) {
   if (e.n == 0) return f;
   if (f.n == 0) return e;
@@ -125,7 +125,7 @@ Expansion negate(Expansion e) {
   return {h, e.n};
 }
 
-// e * b ([Shewchuk97] theorem 19, with two-product by fma).
+// e * b ([Shewchuk97] sec. 2, scale expansion; two-product by fma).
 Expansion scale(Expansion e, double b) {
   if (e.n == 0 || b == 0) return {};
   double* h = g_arena.alloc(static_cast<std::size_t>(2 * e.n));
@@ -345,7 +345,7 @@ int insphere_perturbed(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec
                        std::uint32_t ic, std::uint32_t id, std::uint32_t ie) {
   const int s = insphere_sign(a, b, c, d, e);
   if (s != 0) return s;
-  // [Devillers11] sec. 3 (symbolic perturbation of the lifting): walk the five points from the
+  // [Devillers11] (symbolic perturbation of the lifting): walk the five points from the
   // most perturbed (largest id) down; the first non-vanishing coefficient decides. The query
   // point perturbed most means "outside"; a tetrahedron vertex v perturbed most means the sign
   // of orient3d of the tetrahedron with v replaced by e.

@@ -23,15 +23,15 @@ double orient3d(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, c
 double insphere(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d,
                 const glm::dvec3& e);
 
-// Sign (-1, 0, +1) of orient3d; cheaper than orient3d when the filter fails (no estimate).
+// Sign (-1, 0, +1) of orient3d, exact.
 int orient3d_sign(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
                   const glm::dvec3& d);
 
-// The sign of insphere with a symbolic perturbation that never returns 0 ([Devillers11]
-// sec. 3): every point is lifted by an infinitesimal that grows with its `id` (any total order,
-// e.g. the point's index; ids must be distinct), so cospherical ties are broken consistently
-// across all tetrahedra of a triangulation. Requires orient3d(a, b, c, d) > 0. Returns +1:
-// e inside (conflict), -1: outside.
+// The sign of insphere with a symbolic perturbation that never returns 0 ([Devillers11]): every
+// point is lifted by an infinitesimal that grows with its `id` (any total order, e.g. the point's
+// index; ids must be distinct), so cospherical ties are broken consistently across all tetrahedra
+// of a triangulation. Requires orient3d(a, b, c, d) > 0. Returns +1: e inside (conflict), -1:
+// outside.
 int insphere_perturbed(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
                        const glm::dvec3& d, const glm::dvec3& e, std::uint32_t ia, std::uint32_t ib,
                        std::uint32_t ic, std::uint32_t id, std::uint32_t ie);
