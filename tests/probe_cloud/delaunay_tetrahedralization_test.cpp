@@ -118,5 +118,34 @@ TEST(DelaunayTetrahedralization, HullWithCoplanarFacesAndPointsOnThem) {
   EXPECT_EQ(hull.size(), 308u);
 }
 
+TEST(DelaunayTetrahedralization, DegenerateLatticeSubsets) {
+  // Random subsets of a 4x4x4 lattice: coplanar hull faces, cospherical and collinear sets
+  // everywhere, hull points inserted after interior ones. Each must be valid and cover the
+  // lattice subset's hull (the tetrahedra's volumes add up to the hull's).
+  std::mt19937 rng(17);
+  for (int round = 0; round < 200; ++round) {
+    std::vector<V> p;
+    const int keep = 5 + int(rng() % 60);
+    for (int i = 0; i < 64; ++i) {
+      if (int(rng() % 64) < keep) p.push_back(V(i & 3, (i >> 2) & 3, (i >> 4) & 3));
+    }
+    std::shuffle(p.begin(), p.end(), rng);
+    const auto d = delaunay_tetrahedralize(p);
+    if (d.vertices.empty()) continue;
+    expect_valid(p, d);
+    double tets = 0, hull = 0;
+    for (std::size_t c = 0; c < d.vertices.size(); ++c) {
+      const auto& v = d.vertices[c];
+      if (c < d.finite_count) {
+        tets += orient3d(p[v[0]], p[v[1]], p[v[2]], p[v[3]]);
+      } else {
+        hull += orient3d(V(0.0), p[v[0]], p[v[1]], p[v[2]]);
+      }
+    }
+    ASSERT_NEAR(tets, hull, 1e-9) << "round " << round;
+    if (HasFailure()) break;
+  }
+}
+
 }  // namespace
 }  // namespace penumbra::probe_cloud
