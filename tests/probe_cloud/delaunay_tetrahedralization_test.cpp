@@ -5,6 +5,7 @@
 #include <set>
 
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "penumbra/systems/probe_cloud/exact_predicates.h"
 
@@ -140,6 +141,9 @@ TEST(DelaunayTetrahedralization, DegenerateLatticeSubsets) {
         tets += orient3d(p[v[0]], p[v[1]], p[v[2]], p[v[3]]);
       } else {
         hull += orient3d(V(0.0), p[v[0]], p[v[1]], p[v[2]]);
+        // No degenerate hull triangle (exact on small integers).
+        const V n = glm::cross(p[v[1]] - p[v[0]], p[v[2]] - p[v[0]]);
+        ASSERT_NE(glm::dot(n, n), 0.0) << "round " << round << " hull cell " << c;
       }
     }
     ASSERT_NEAR(tets, hull, 1e-9) << "round " << round;
