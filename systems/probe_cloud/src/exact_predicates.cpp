@@ -51,6 +51,21 @@ class Arena {
     std::size_t block, top;
   };
   double* alloc(std::size_t n) {
+    if (!blocks_.empty() && top_ + n <= blocks_[block_].size) {
+      double* p = blocks_[block_].data.get() + top_;
+      top_ += n;
+      return p;
+    }
+    return alloc_slow(n);
+  }
+  Mark mark() const { return {block_, top_}; }
+  void release(Mark m) {
+    block_ = m.block;
+    top_ = m.top;
+  }
+
+ private:
+  double* alloc_slow(std::size_t n) {
     if (blocks_.empty()) blocks_.push_back(make_block(n));
     if (top_ + n > blocks_[block_].size) {
       // Blocks never move, so earlier expansions stay valid; later blocks are free.
@@ -66,13 +81,7 @@ class Arena {
     top_ += n;
     return p;
   }
-  Mark mark() const { return {block_, top_}; }
-  void release(Mark m) {
-    block_ = m.block;
-    top_ = m.top;
-  }
 
- private:
   struct Block {
     std::unique_ptr<double[]> data;
     std::size_t size = 0;
@@ -98,31 +107,31 @@ struct Expansion {
   int sign() const { return n == 0 ? 0 : (v[n - 1] > 0 ? 1 : (v[n - 1] < 0 ? -1 : 0)); }
 };
 
-// e + f: merge by magnitude, then a chain of two-sums ([Shewchuk97] sec. 2, fast expansion sum).
-Expansion add(Expansion e, Expansion f) {
-  if (e.n == 0) return f;
-  if (f.n == 0) return e;
-  double* merged = g_arena.alloc(static_cast<std::size_t>(e.n + f.n));
-  std::merge(e.v, e.v + e.n, f.v, f.v + f.n, merged,
-             [](double a, double b) { return std::fabs(a) < std::fabs(b); });
-  double* h = g_arena.alloc(static_cast<std::size_t>(e.n + f.n));
-  int hn = 0;
-  double q = merged[0];
-  for (int i = 1; i < e.n + f.n; ++i) {
+// e + sign * f (sign = +1 or -1): merge by magnitude, then a chain of two-sums ([Shewchuk97]
+// sec. 2, fast expansion sum).
+Expansion add_signed(Expansion e, Expansion f, double sign) {
+  const int n = e.n + f.n;
+  double* h = g_arena.alloc(static_cast<std::size_t>(n));
+  int i = 0, j = 0, hn = 0;
+  auto next = [&] {
+    if (j >= f.n || (i < e.n && std::fabs(e.v[i]) < std::fabs(f.v[j]))) return e.v[i++];
+    return sign * f.v[j++];
+  };
+  double q = next();
+  for (int k = 1; k < n; ++k) {
     double sum, err;
-    two_sum(q, merged[i], sum, err);
+    two_sum(q, next(), sum, err);
     if (err != 0) h[hn++] = err;
     q = sum;
   }
-  if (q != 0 || hn == 0) h[hn++] = q;
-  if (hn == 1 && h[0] == 0) hn = 0;
+  if (q != 0) h[hn++] = q;
   return {h, hn};
 }
 
-Expansion negate(Expansion e) {
-  double* h = g_arena.alloc(static_cast<std::size_t>(e.n));
-  for (int i = 0; i < e.n; ++i) h[i] = -e.v[i];
-  return {h, e.n};
+Expansion add(Expansion e, Expansion f) {
+  if (e.n == 0) return f;
+  if (f.n == 0) return e;
+  return add_signed(e, f, 1.0);
 }
 
 // e * b ([Shewchuk97] sec. 2, scale expansion; two-product by fma).
@@ -154,7 +163,13 @@ Expansion mul(Expansion e, Expansion f) {
 }
 
 Expansion sub(Expansion e, Expansion f) {
-  return add(e, negate(f));
+  if (f.n == 0) return e;
+  if (e.n == 0) {
+    double* h = g_arena.alloc(static_cast<std::size_t>(f.n));
+    for (int i = 0; i < f.n; ++i) h[i] = -f.v[i];
+    return {h, f.n};
+  }
+  return add_signed(e, f, -1.0);
 }
 
 // a - b as an exact expansion of at most two terms.
