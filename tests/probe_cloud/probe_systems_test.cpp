@@ -205,6 +205,24 @@ TEST(ProbeSystems, NoCloudWritesNothingAndAnEmptyCloudGivesZero) {
   EXPECT_EQ(s.world.get<ProbeAnchor>(s.entities[0])->cell, kNoCell);
 }
 
+TEST(ProbeSystems, AnInconsistentCloudIsRejectedWithItsReason) {
+  const auto points = test::random_points(50, 10.0f, 52);
+  auto bad = std::make_shared<data::ProbeCloud>(*make_cloud(points, {}));
+  bad->sh.resize(7);
+  Scene s(bad);
+  s.spawn({{5, 5, 5}});
+  s.run();
+  const ProbeWalkState& state = s.world.resource<const ProbeWalkState>();
+  EXPECT_EQ(state.walk, nullptr);
+  EXPECT_NE(state.error.find("sh has 7 floats"), std::string::npos) << state.error;
+  EXPECT_FALSE(s.world.get<ProbeLighting>(s.entities[0])->valid);
+  // A good cloud afterwards is taken up.
+  s.world.resource<ProbeCloudResource>().replace(make_cloud(points, {}));
+  s.run();
+  EXPECT_TRUE(s.world.resource<const ProbeWalkState>().error.empty());
+  EXPECT_TRUE(s.world.get<ProbeLighting>(s.entities[0])->valid);
+}
+
 TEST(ProbeSystems, ResultsDoNotDependOnTheThreadCount) {
   const auto points = test::random_points(500, 10.0f, 43);
   const auto cloud = make_cloud(points, test::random_sh(points.size(), 3, 44));

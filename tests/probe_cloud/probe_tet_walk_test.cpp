@@ -92,7 +92,7 @@ TEST(ProbeTetWalk, QueriesOnVerticesEdgesAndFaces) {
   const data::ProbeCloud& cloud = walk.cloud();
   std::mt19937 rng(8);
   std::uniform_int_distribution<std::uint32_t> pick(0, cloud.inner_count - 1);
-  for (int n = 0; n < 300; ++n) {
+  for (int n = 0; n < 200; ++n) {
     const std::uint32_t t = pick(rng);
     const data::ProbeCell& cell = cloud.cells[t];
     const glm::vec3 v[4] = {cloud.positions[std::size_t(cell.vertices[0])],

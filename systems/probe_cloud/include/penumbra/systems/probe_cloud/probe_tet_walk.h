@@ -8,7 +8,8 @@
 //  - a visited check: a step into a cell already on this walk's path (a cycle, from float
 //    round-off near degenerate faces) takes the next most negative face instead; when every
 //    negative face leads back, the walk ends in the visited cell that came closest to holding p
-//    (largest smallest weight) and its clamped weights;
+//    (largest smallest weight) and its clamped weights, or, when even that one's smallest weight
+//    is below -1e-3, the fallback runs; a neighbour link of -1 (not in a valid cloud) is a wall;
 //  - a step cap (ProbeWalkSettings::max_steps): past it, the fallback locate runs;
 //  - the fallback locate also runs when the start is invalid (-1, out of range) or, p not being in
 //    the start cell, p is farther than ProbeWalkSettings::far_cells grid cells from every vertex
