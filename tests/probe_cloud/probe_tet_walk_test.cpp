@@ -85,21 +85,23 @@ TEST(ProbeTetWalk, GridCloudMatchesBruteForce) {
 }
 
 // On vertices, edge midpoints and face centroids, from every cell around them: finite convex
-// weights, no fallback, a few steps (no oscillation).
-TEST(ProbeTetWalk, QueriesOnVerticesEdgesAndFaces) {
-  const auto points = test::grid_points(10, 10, 10, 1.0f);
-  const ProbeTetWalk walk(make_cloud(points, test::random_sh(points.size(), 3, 7)));
+// weights, no fallback, a few steps (no oscillation). The grid (every cube's corners cospherical)
+// and a random cloud whose outer cells are picked too (queries on the hull's triangles).
+void queries_on_vertices_edges_and_faces(const ProbeTetWalk& walk, bool with_outer, int count,
+                                         int max_steps) {
   const data::ProbeCloud& cloud = walk.cloud();
   std::mt19937 rng(8);
-  std::uniform_int_distribution<std::uint32_t> pick(0, cloud.inner_count - 1);
-  for (int n = 0; n < 200; ++n) {
+  const auto cells =
+      static_cast<std::uint32_t>(with_outer ? cloud.cells.size() : cloud.inner_count);
+  std::uniform_int_distribution<std::uint32_t> pick(0, cells - 1);
+  for (int n = 0; n < count; ++n) {
     const std::uint32_t t = pick(rng);
     const data::ProbeCell& cell = cloud.cells[t];
-    const glm::vec3 v[4] = {cloud.positions[std::size_t(cell.vertices[0])],
-                            cloud.positions[std::size_t(cell.vertices[1])],
-                            cloud.positions[std::size_t(cell.vertices[2])],
-                            cloud.positions[std::size_t(cell.vertices[3])]};
-    const glm::vec3 queries[3] = {v[n % 4], 0.5f * (v[0] + v[(n % 3) + 1]),
+    const int corners = cell.outer() ? 3 : 4;
+    glm::vec3 v[4];
+    for (int k = 0; k < corners; ++k)
+      v[k] = cloud.positions[std::size_t(cell.vertices[std::size_t(k)])];
+    const glm::vec3 queries[3] = {v[n % corners], 0.5f * (v[0] + v[(n % (corners - 1)) + 1]),
                                   (v[0] + v[1] + v[2]) / 3.0f};
     for (const glm::vec3& q : queries) {
       // From this cell and from each of its neighbours.
@@ -109,10 +111,23 @@ TEST(ProbeTetWalk, QueriesOnVerticesEdgesAndFaces) {
         ProbeWalkResult r;
         ASSERT_NO_FATAL_FAILURE(check_against_brute_force(walk, q, s, &r));
         EXPECT_FALSE(r.fallback);
-        EXPECT_LE(r.steps, 8);
+        EXPECT_LE(r.steps, max_steps);
       }
     }
   }
+}
+
+TEST(ProbeTetWalk, QueriesOnVerticesEdgesAndFaces) {
+  const auto grid = test::grid_points(10, 10, 10, 1.0f);
+  queries_on_vertices_edges_and_faces(
+      ProbeTetWalk(make_cloud(grid, test::random_sh(grid.size(), 3, 7))), false, 150, 8);
+  const auto points = test::random_points(300, 10.0f, 27);
+  ProbeWalkSettings no_far;  // hull triangles of a random cloud are larger than the far check
+  no_far.far_cells = 1e9f;
+  queries_on_vertices_edges_and_faces(
+      ProbeTetWalk(make_cloud(points, test::random_sh(points.size(), 3, 28)), no_far), true, 150,
+      16);  // from an outer cell p is behind: into its tetrahedron, then across hull slivers (<=
+            // 13)
 }
 
 TEST(ProbeTetWalk, InterpolationAtAProbeIsThatProbeExactly) {
