@@ -360,6 +360,35 @@ TEST(ProbeTetWalk, FarFromTheOriginAtOneMetreSpacing) {
   EXPECT_LE(fallbacks, 5);  // small moves walk
 }
 
+// A 1 km strip at 1 m spacing plus 10 probes 100 m apart (godotengine/godot #82642's scene):
+// a very uneven cloud, whose grid is coarse for the strip; entities along the strip and among the
+// far probes still land in the right cell.
+TEST(ProbeTetWalk, KilometreStripWithSparseProbes) {
+  std::vector<glm::vec3> points;
+  const glm::vec3 origin(4000.0f, -2000.0f, 500.0f);
+  for (int x = 0; x < 1000; ++x)
+    for (int y = 0; y < 3; ++y)
+      for (int z = 0; z < 2; ++z)
+        points.push_back(origin + glm::vec3(float(x), float(y), float(z)));
+  for (int k = 0; k < 10; ++k)
+    points.push_back(origin + glm::vec3(100.0f * float(k) + 37.0f, 60.0f + 7.0f * float(k % 3),
+                                        40.0f + 11.0f * float(k % 4)));
+  const ProbeTetWalk walk(make_cloud(points, test::random_sh(points.size(), 2, 29), 2));
+  ASSERT_GT(walk.cloud().inner_count, 0u);
+  std::mt19937 rng(30);
+  std::uniform_real_distribution<float> ux(-50.0f, 1050.0f), uy(-5.0f, 80.0f), uz(-5.0f, 60.0f),
+      jitter(-0.5f, 0.5f);
+  std::int32_t cached = -1;
+  glm::vec3 p = origin + glm::vec3(500.0f, 1.0f, 0.5f);
+  for (int i = 0; i < 120; ++i) {
+    p = (i % 4 == 0) ? origin + glm::vec3(ux(rng), uy(rng), uz(rng))
+                     : p + glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    ProbeWalkResult r;
+    ASSERT_NO_FATAL_FAILURE(check_against_brute_force(walk, p, cached, &r));
+    cached = r.cell;
+  }
+}
+
 TEST(ProbeTetWalk, PathListsTheCellsVisited) {
   const auto points = test::grid_points(6, 6, 6, 1.0f);
   ProbeWalkSettings settings;
