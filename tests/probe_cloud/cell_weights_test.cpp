@@ -3,6 +3,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
 
 #include "penumbra/systems/probe_cloud/probe_cloud_build.h"
 
@@ -93,6 +94,34 @@ TEST(CellWeights, InnerSideOfAHullFacePointsToTheTetrahedron) {
     const auto w = cell_weights(cloud, c, glm::vec3(0.5f));  // the cube's centre
     EXPECT_LT(w[3], std::min({w[0], w[1], w[2]}));
     EXPECT_LT(w[3], 0.0f);
+  }
+}
+
+TEST(CellWeights, OuterTransformHoldsTheCubic) {
+  // Row k of an outer cell's transform dotted with (p, 1) is the coefficient of t^(3-k) of
+  // det[p0 + t n0 - p, p1 + t n1 - p, p2 + t n2 - p] (data/probe_cloud.h): compare with the
+  // determinant evaluated directly at a few t.
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<float> u(-1.0f, 3.0f);
+  std::vector<glm::vec3> pts(60);
+  for (glm::vec3& q : pts) q = {u(rng), u(rng), u(rng)};
+  const data::ProbeCloud cloud = build_probe_cloud(pts, {});
+  ASSERT_GT(cloud.cells.size(), cloud.inner_count);
+  for (std::uint32_t c = cloud.inner_count; c < cloud.cells.size(); ++c) {
+    const glm::mat4& m = cloud.transforms[c];
+    const glm::vec3 p(u(rng), u(rng), u(rng));
+    const glm::vec4 k = m * glm::vec4(p, 1.0f);
+    const auto& v = cloud.cells[c].vertices;
+    for (double t : {0.0, 0.5, 1.0, 2.0}) {
+      glm::dvec3 col[3];
+      for (int i = 0; i < 3; ++i) {
+        col[i] = glm::dvec3(cloud.positions[v[i]]) + t * glm::dvec3(cloud.hull_normals[v[i]]) -
+                 glm::dvec3(p);
+      }
+      const double direct = glm::dot(col[0], glm::cross(col[1], col[2]));
+      const double poly = ((double(k[0]) * t + k[1]) * t + k[2]) * t + k[3];
+      EXPECT_NEAR(poly, direct, 1e-4 * (1 + std::abs(direct))) << "cell " << c << " t " << t;
+    }
   }
 }
 
