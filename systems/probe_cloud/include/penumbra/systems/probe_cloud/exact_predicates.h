@@ -1,8 +1,10 @@
 // Exact geometric predicates on double coordinates ([Shewchuk97]): a floating-point filter with
 // a dynamic error bound, then an exact evaluation by expansion arithmetic (two-sum, two-product
 // with fma, expansion sums and scaling). The SIGN of every result is exact for any finite
-// inputs whose products neither overflow nor underflow (true for coordinates that came from
-// floats). The magnitude is only an approximation of the determinant.
+// inputs whose products (up to fifth powers of coordinate differences, and their rounding
+// errors) neither overflow nor underflow: true for coordinates that came from floats unless two
+// points lie closer than about 1e-30 (the build merges such duplicates first). The magnitude is
+// only an approximation of the determinant.
 // Threading: pure functions; the exact fallback uses a per-thread scratch buffer, so any number
 // of threads may call them at once.
 #pragma once
