@@ -280,9 +280,139 @@ inline double insphere_filter(const glm::dvec3& a, const glm::dvec3& b, const gl
   return det;
 }
 
+// ---- The common exact case: every coordinate difference is a double ----------------------
+// (grids, nearby float coordinates). Same arithmetic on fixed stack buffers, no arena.
+
+int fixed_sum(const double* e, int en, const double* f, int fn, double* h) {
+  if (en == 0 || fn == 0) {
+    const double* src = en == 0 ? f : e;
+    const int n = en == 0 ? fn : en;
+    std::copy(src, src + n, h);
+    return n;
+  }
+  int i = 0, j = 0, hn = 0;
+  auto next = [&] {
+    if (j >= fn || (i < en && std::fabs(e[i]) < std::fabs(f[j]))) return e[i++];
+    return f[j++];
+  };
+  double q = next();
+  for (int k = 1; k < en + fn; ++k) {
+    double sum, err;
+    two_sum(q, next(), sum, err);
+    if (err != 0) h[hn++] = err;
+    q = sum;
+  }
+  if (q != 0) h[hn++] = q;
+  return hn;
+}
+
+int fixed_scale(const double* e, int en, double b, double* h) {
+  if (en == 0 || b == 0) return 0;
+  int hn = 0;
+  double q, err;
+  two_product(e[0], b, q, err);
+  if (err != 0) h[hn++] = err;
+  for (int i = 1; i < en; ++i) {
+    double hi, lo, sum;
+    two_product(e[i], b, hi, lo);
+    two_sum(q, lo, sum, err);
+    if (err != 0) h[hn++] = err;
+    two_sum(hi, sum, q, err);
+    if (err != 0) h[hn++] = err;
+  }
+  if (q != 0) h[hn++] = q;
+  return hn;
+}
+
+// a * b - c * d: at most 4 terms.
+int fixed_cross(double a, double b, double c, double d, double* h) {
+  double p[2], m[2];
+  two_product(a, b, p[1], p[0]);
+  two_product(c, d, m[1], m[0]);
+  m[0] = -m[0];
+  m[1] = -m[1];
+  const int pn = p[0] != 0 ? 2 : (p[1] != 0 ? 1 : 0);
+  const int mn = m[0] != 0 ? 2 : (m[1] != 0 ? 1 : 0);
+  // Drop a zero low term so the expansions stay zero-free.
+  const double* pp = p[0] != 0 ? p : p + 1;
+  const double* mp = m[0] != 0 ? m : m + 1;
+  return fixed_sum(pp, pn, mp, mn, h);
+}
+
+struct Fixed {
+  double v[1152];
+  int n = 0;
+};
+
+// x * u - y * v + z * w for short expansions u, v, w (4 terms each): at most 24 terms.
+int fixed_det3(double x, const double* u, int un, double y, const double* v, int vn, double z,
+               const double* w, int wn, double* h) {
+  double t1[8], t2[8], t3[8], s[16];
+  const int n1 = fixed_scale(u, un, x, t1);
+  const int n2 = fixed_scale(v, vn, -y, t2);
+  const int n3 = fixed_scale(w, wn, z, t3);
+  const int ns = fixed_sum(t1, n1, t2, n2, s);
+  return fixed_sum(s, ns, t3, n3, h);
+}
+
+// sign * (l0 + l1 + ...) * det: at most 2 * 6 * 24 = 288 terms.
+int fixed_product(const double* l, int ln, const double* det, int dn, double sign, double* h) {
+  double acc[2][288], term[48];
+  int an = 0, cur = 0;
+  for (int i = 0; i < ln; ++i) {
+    const int tn = fixed_scale(det, dn, sign * l[i], term);
+    an = fixed_sum(acc[cur], an, term, tn, acc[1 - cur]);
+    cur = 1 - cur;
+  }
+  std::copy(acc[cur], acc[cur] + an, h);
+  return an;
+}
+
+int fixed_lift(double x, double y, double z, double* h) {
+  double a[2], b[2], c[2], ab[4];
+  two_product(x, x, a[1], a[0]);
+  two_product(y, y, b[1], b[0]);
+  two_product(z, z, c[1], c[0]);
+  const int an = a[0] != 0 ? 2 : (a[1] != 0 ? 1 : 0);
+  const int bn = b[0] != 0 ? 2 : (b[1] != 0 ? 1 : 0);
+  const int cn = c[0] != 0 ? 2 : (c[1] != 0 ? 1 : 0);
+  const int abn = fixed_sum(a[0] != 0 ? a : a + 1, an, b[0] != 0 ? b : b + 1, bn, ab);
+  return fixed_sum(ab, abn, c[0] != 0 ? c : c + 1, cn, h);
+}
+
+bool exact_differences(const glm::dvec3* p, int count, const glm::dvec3& origin, glm::dvec3* d) {
+  for (int i = 0; i < count; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      double x, y;
+      two_diff(p[i][k], origin[k], x, y);
+      if (y != 0) return false;
+      d[i][k] = x;
+    }
+  }
+  return true;
+}
+
+double estimate_of(const double* v, int n, int& sign) {
+  sign = n == 0 ? 0 : (v[n - 1] > 0 ? 1 : -1);
+  double s = 0;
+  for (int i = 0; i < n; ++i) s += v[i];
+  return s;
+}
+
 double orient_exact_estimate(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
                              const glm::dvec3& d, int& sign) {
   ++g_exact_calls;
+  const glm::dvec3 p[3] = {a, b, c};
+  glm::dvec3 q[3];
+  if (exact_differences(p, 3, d, q)) {
+    // det[a-d, b-d, c-d] = adz (bdx cdy - cdx bdy) + bdz (cdx ady - adx cdy) + cdz (...).
+    double bc[4], ca[4], ab[4], det[24];
+    const int nbc = fixed_cross(q[1].x, q[2].y, q[2].x, q[1].y, bc);
+    const int nca = fixed_cross(q[2].x, q[0].y, q[0].x, q[2].y, ca);
+    const int nab = fixed_cross(q[0].x, q[1].y, q[1].x, q[0].y, ab);
+    const int n = fixed_det3(q[0].z, bc, nbc, -q[1].z, ca, nca, q[2].z, ab, nab, det);
+    return estimate_of(det, n, sign);
+  }
   ArenaScope scope;
   const Expansion det = orient_exact(a, b, c, d);
   sign = det.sign();
@@ -292,6 +422,41 @@ double orient_exact_estimate(const glm::dvec3& a, const glm::dvec3& b, const glm
 double insphere_exact_estimate(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
                                const glm::dvec3& d, const glm::dvec3& e, int& sign) {
   ++g_exact_calls;
+  const glm::dvec3 p[4] = {a, b, c, d};
+  glm::dvec3 q[4];
+  if (exact_differences(p, 4, e, q)) {
+    double m[6][4];  // ab, bc, cd, da, ac, bd (x, y minors)
+    int mn[6];
+    const int pair[6][2] = {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}};
+    for (int k = 0; k < 6; ++k) {
+      const glm::dvec3 &u = q[pair[k][0]], &v = q[pair[k][1]];
+      mn[k] = fixed_cross(u.x, v.y, v.x, u.y, m[k]);
+    }
+    enum { AB, BC, CD, DA, AC, BD };
+    double abc[24], bcd[24], cda[24], dab[24];
+    // The 3x3 minors as in [Shewchuk97]'s insphere (signs folded into the factors).
+    const int nabc =
+        fixed_det3(q[0].z, m[BC], mn[BC], q[1].z, m[AC], mn[AC], q[2].z, m[AB], mn[AB], abc);
+    const int nbcd =
+        fixed_det3(q[1].z, m[CD], mn[CD], q[2].z, m[BD], mn[BD], q[3].z, m[BC], mn[BC], bcd);
+    const int ncda =
+        fixed_det3(q[2].z, m[DA], mn[DA], -q[3].z, m[AC], mn[AC], q[0].z, m[CD], mn[CD], cda);
+    const int ndab =
+        fixed_det3(q[3].z, m[AB], mn[AB], -q[0].z, m[BD], mn[BD], q[1].z, m[DA], mn[DA], dab);
+    double lift[4][6];
+    int ln[4];
+    for (int i = 0; i < 4; ++i) ln[i] = fixed_lift(q[i].x, q[i].y, q[i].z, lift[i]);
+    // det = (dlift abc - clift dab) + (blift cda - alift bcd).
+    static thread_local Fixed t[4], s[3];
+    t[0].n = fixed_product(lift[3], ln[3], abc, nabc, 1.0, t[0].v);
+    t[1].n = fixed_product(lift[2], ln[2], dab, ndab, -1.0, t[1].v);
+    t[2].n = fixed_product(lift[1], ln[1], cda, ncda, 1.0, t[2].v);
+    t[3].n = fixed_product(lift[0], ln[0], bcd, nbcd, -1.0, t[3].v);
+    s[0].n = fixed_sum(t[0].v, t[0].n, t[1].v, t[1].n, s[0].v);
+    s[1].n = fixed_sum(t[2].v, t[2].n, t[3].v, t[3].n, s[1].v);
+    s[2].n = fixed_sum(s[0].v, s[0].n, s[1].v, s[1].n, s[2].v);
+    return estimate_of(s[2].v, s[2].n, sign);
+  }
   ArenaScope scope;
   const Expansion det = insphere_exact(a, b, c, d, e);
   sign = det.sign();
