@@ -12,6 +12,9 @@ build/bench/blockers_gbench.json (Google Benchmark's output: medians, spread and
 speed-versus-accuracy sweep from its records (build/bench/blockers.json) and the load average's
 three values; in a file with <!-- bench-table:blockers-brief:begin/end --> markers instead (the
 README), a short table of the 400-blocker frames and the sweep's best trade-offs, from the records.
+The probes group likewise adds, from its records (build/bench/probes.json), the
+tetrahedralization against tetgen, the frames and the speed-versus-accuracy sweep; with
+<!-- bench-table:probes-brief:begin/end --> markers, a short table of them.
 """
 import json
 import sys
@@ -52,6 +55,11 @@ def table(r):
             "prints it) at the start")
         lines += blocker_frames()
         lines += blocker_sweep(blocker_records())
+    if r["group"] == "probes":
+        lines[0] = lines[0].replace(
+            f"load average {load[0]:.2f} at the start",
+            "load average " + " / ".join(f"{x:.2f}" for x in load) + " (1, 5, 15 min) at the start")
+        lines += probe_tables(probe_records())
     return "\n".join(lines)
 
 
@@ -171,6 +179,125 @@ def blocker_brief(summary, rec):
     return "\n".join(lines)
 
 
+def probe_records(path="build/bench/probes.json"):
+    with open(path) as f:
+        return json.load(f)
+
+
+def probe_tetra(rec):
+    """The probes group's tetrahedralizations: ours against tetgen, time and tetrahedra."""
+    ours = [x for x in rec["records"] if x["kind"] == "tetrahedralize" and x["method"] == "ours"]
+    lines = [
+        "",
+        "Tetrahedralization against Debian `tetgen -QNEF` on the same points in the same run "
+        "(tetgen: process wall time, start and .node read included; CPU: ours the thread's, "
+        "tetgen the process's user + system time; build/bench/probes.json):",
+        "",
+        "| points | count | ours, ms | tetgen, ms | tetgen / ours | CPU ms: ours, tetgen (tetgen / ours) "
+        "| tetrahedra: ours, tetgen |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for x in ours:
+        t, b = x.get("tetrahedra"), x.get("baseline_tetrahedra")
+        same = "-" if t is None or b is None else ("equal" if t == b else "differ")
+        c, bc = x.get("cpu_ms"), x.get("baseline_cpu_ms")
+        cpu_ratio = bc / c if c and bc is not None else None
+        lines.append(f"| {x['scene']} | {fmt(x['size'])} | {fmt(x['ms'])} | {fmt(x['baseline_ms'])} | "
+                     f"{fmt(x['speedup_vs_baseline'])} | {fmt(c)}, {fmt(bc)} ({fmt(cpu_ratio)}) | "
+                     f"{fmt(t)}, {fmt(b)} ({same}) |")
+    return lines
+
+
+def probe_frames(rec):
+    frames = [x for x in rec["records"] if x["kind"] == "frame" and x["method"] == "walk"]
+    lines = [
+        "",
+        "Frames: entities moving 8 cm per frame through 10,000 random probes (100 x 100 x 20 m, "
+        "3 bands), walk from the cached cell + interpolation, 2 threads:",
+        "",
+        "| entities | ms / frame | no cache, ms | speed-up | floor ms (ms / floor) | steps / entity "
+        "| bytes / entity | goal |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for x in frames:
+        goal = "-" if x.get("goal_ms") is None else (
+            f"<= {fmt(x['goal_ms'])} ms: {'met' if x['goal_met'] else 'missed'}")
+        lines.append(f"| {fmt(x['size'])} | {fmt(x['ms'])} | {fmt(x['baseline_ms'])} | "
+                     f"{fmt(x['speedup_vs_baseline'])} | {fmt(x['floor_ms'])} ({fmt(x['ratio_to_floor'])}x) | "
+                     f"{x['steps_per_entity']:.2f} | {fmt(x['bytes_per_entity'])} | {goal} |")
+    return lines
+
+
+def probe_sweep(rec):
+    sweep = [x for x in rec["records"] if x["kind"] == "sweep"]
+    if not sweep:
+        return []
+    load = rec.get("load_avg_at_end")
+    lines = [
+        "",
+        "Speed versus accuracy (the accuracy tests' scene: ground, two boxes, lobe sky; a frame of "
+        f"{fmt(sweep[0]['size'])} moving entities, 2 threads; the interpolated irradiance against "
+        "the reference at 800 points x 6 normals; load average "
+        + ("-" if load is None else f"{load:.2f}") + " at the end; **bold**: the best trade-off, "
+        f"{rec['best_tradeoff_rule']}; chart build/bench/probes.svg):",
+        "",
+        "| cloud | bands | probes | ms / frame | rel RMS (interior, edge, outside) | max | "
+        "reference noise |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for x in sweep:
+        cell = (f"{pct(x['rel_rms_error'])} ({pct(x['rel_rms_error_interior'])}, "
+                f"{pct(x['rel_rms_error_edge'])}, {pct(x['rel_rms_error_outside'])})")
+        if x["case"] == rec.get("best_tradeoff"):
+            cell = f"**{cell}**"
+        probes = "-" if x.get("probes") is None else f"{x['probes']:,.0f}"
+        lines.append(f"| {x['method']} | {x['bands']} | {probes} | {fmt(x['ms'])} | {cell} | "
+                     f"{pct(x['max_rel_error'])} | {pct(x['reference_rel_se'])} |")
+    return lines
+
+
+def probe_tables(rec):
+    return probe_tetra(rec) + probe_frames(rec) + probe_sweep(rec)
+
+
+def probe_brief(summary, rec):
+    """The README's short probes table: tetrahedralization against tetgen (uniform points), the
+    10k / 100k frames and the best trade-off."""
+    load = summary.get("load_avg") or [None]
+    by = {(x["kind"], x["scene"], x["method"], x["size"]): x for x in rec["records"]}
+    lines = [
+        f"Measured {summary['date']} on {summary['num_cpus']} CPUs, load average "
+        + " / ".join(f"{x:.2f}" for x in load if x is not None)
+        + " at the start (`./penumbra bench probes`, build/bench/probes.json).",
+        "",
+        "| case | ours | same-run baseline | ratio | goal |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    for x in rec["records"]:
+        if x["kind"] == "tetrahedralize" and x["method"] == "ours" and x["scene"] == "uniform":
+            ok = x["speedup_vs_baseline"] is not None and x["speedup_vs_baseline"] >= 1
+            lines.append(f"| tetrahedralize {fmt(x['size'])} uniform points | {fmt(x['ms'])} ms | "
+                         f"tetgen {fmt(x['baseline_ms'])} ms | {fmt(x['speedup_vs_baseline'])}x | "
+                         f"at least tetgen's speed: {'met' if ok else 'missed'} |")
+        if x["kind"] == "frame" and x["method"] == "walk":
+            goal = "-" if x.get("goal_ms") is None else (
+                f"<= {fmt(x['goal_ms'])} ms: {'met' if x['goal_met'] else 'missed'}")
+            lines.append(f"| frame, {fmt(x['size'])} moving entities, 2 threads | {fmt(x['ms'])} ms | "
+                         f"no cache {fmt(x['baseline_ms'])} ms | {fmt(x['speedup_vs_baseline'])}x | {goal} |")
+    for row in summary["rows"]:
+        if row["name"].startswith("anchor:") and row.get("value") is not None:
+            lines.append(f"| 2,000 queries (walk + interpolation), 1 thread | {fmt(row['value'])} ms | "
+                         f"Unity anchor: < 1 ms on an iPad 2 | {fmt(row.get('ratio'))}x | "
+                         f"<= 1 ms: {'met' if row['status'] == 'PASS' else 'missed'} |")
+    best = {x["case"]: x for x in rec["records"]}.get(rec.get("best_tradeoff"))
+    if best:
+        lines.append(
+            f"\nBest trade-off of the sweep: {best['method']}, {best['bands']} bands: "
+            f"{fmt(best['ms'])} ms per {fmt(best['size'])}-entity frame, irradiance rel RMS "
+            f"{pct(best['rel_rms_error'])} against the reference.")
+    return "\n".join(lines)
+
+
 def main(argv):
     if not argv:
         sys.exit("usage: bench_table.py GROUP [--write FILE...]")
@@ -184,11 +311,12 @@ def main(argv):
     begin, end = f"<!-- bench-table:{group}:begin -->", f"<!-- bench-table:{group}:end -->"
     for target in targets:
         brief = f"<!-- bench-table:{group}-brief:begin -->"
-        if group == "blockers":
+        if group in ("blockers", "probes"):
             with open(target) as f:
                 if brief in f.read():
-                    write_between(target, brief, brief.replace(":begin", ":end"),
-                                  blocker_brief(record, blocker_records()))
+                    short = (blocker_brief(record, blocker_records()) if group == "blockers"
+                             else probe_brief(record, probe_records()))
+                    write_between(target, brief, brief.replace(":begin", ":end"), short)
                     continue
         write_between(target, begin, end, text)
 

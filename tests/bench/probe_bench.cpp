@@ -41,6 +41,8 @@
 #include <tbb/task_arena.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -332,6 +334,8 @@ void set_walk_counters(benchmark::State& state, const WalkCounts& c, double enti
       entities * (cells * cell_test_flops() + interpolation_flops(bands));
 }
 
+void sort_by_cell(Movers& m);
+
 // A frame on 2 threads: cached = walk from last frame's cells; else every entity from no cell.
 void BM_Frame(benchmark::State& state, int entities, bool cached) {
   const pc::ProbeTetWalk& walk = walk_cloud();
@@ -352,12 +356,14 @@ void BM_Frame(benchmark::State& state, int entities, bool cached) {
   set_walk_counters(state, count_frame(walk, m), entities, kBands);
 }
 
-// One thread, per entity (CPU clock; the move is in the timing, a few ns).
-void BM_Query(benchmark::State& state, bool cached) {
+// One thread, per entity (CPU clock; the move is in the timing, a few ns). sorted: the
+// entities ordered by their first cell (sort_by_cell).
+void BM_Query(benchmark::State& state, bool cached, bool sorted) {
   const pc::ProbeTetWalk& walk = walk_cloud();
   const glm::vec3 pad(1.0f);
   Movers m(10'000, kCloudMin + pad, kCloudMax - pad, 6);
   walk.locate_batch(m.p, m.cells, m.out);
+  if (sorted) sort_by_cell(m);
   for (auto _ : state) {
     m.step();
     if (!cached) std::fill(m.cells.begin(), m.cells.end(), pc::kNoCell);
@@ -417,6 +423,51 @@ void BM_Sweep(benchmark::State& state, SweepCase c) {
     state.counters[std::string("rel_rms_") + acc::kRegionNames[k]] = e.region[k].rel_rms;
 }
 
+// The entities of BM_Query sorted by their first cell (the cloud's cells follow the
+// tetrahedralizer's spatial insertion order), so that neighbours in memory walk nearby cells.
+void sort_by_cell(Movers& m) {
+  std::vector<std::size_t> order(m.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return m.cells[a] < m.cells[b]; });
+  Movers sorted = m;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    sorted.p[i] = m.p[order[i]];
+    sorted.v[i] = m.v[order[i]];
+    sorted.cells[i] = m.cells[order[i]];
+  }
+  m = std::move(sorted);
+}
+
+// The memory the walk touches, alone: per entity, its cached cell and that cell's transform,
+// then one float per cache line of the four probes' SH, in the same order as BM_Query. The
+// same-run floor of the query's memory traffic at this access pattern (no arithmetic).
+void BM_Touch(benchmark::State& state, bool sorted) {
+  const pc::ProbeTetWalk& walk = walk_cloud();
+  const data::ProbeCloud& c = walk.cloud();
+  const glm::vec3 pad(1.0f);
+  Movers m(10'000, kCloudMin + pad, kCloudMax - pad, 6);
+  walk.locate_batch(m.p, m.cells, m.out);
+  if (sorted) sort_by_cell(m);
+  const std::size_t per_probe = c.coeffs_per_probe();
+  float sum = 0;
+  for (auto _ : state) {
+    for (std::size_t i = 0; i < m.size(); ++i) {
+      const auto cell = static_cast<std::size_t>(m.cells[i]);
+      const data::ProbeCell& pc_cell = c.cells[cell];
+      sum += c.transforms[cell][3][0] + m.p[i].x;
+      for (std::int32_t v : pc_cell.vertices) {
+        if (v < 0) continue;
+        const float* sh = c.probe_sh(static_cast<std::size_t>(v));
+        for (std::size_t k = 0; k < per_probe; k += 16) sum += sh[k];
+        sum += sh[per_probe - 1];
+      }
+    }
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(m.size()));
+}
+
 // Scalar FMA throughput: 8 independent chains, so latency is hidden (as sh_bench.cpp).
 void BM_FmaThroughput(benchmark::State& state) {
   float a[8] = {1, 2, 3, 4, 5, 6, 7, 8};
@@ -463,8 +514,11 @@ void register_benchmarks() {
     }
   const pb::Timing query{
       .clock = pb::Timing::Clock::kCpu, .unit = benchmark::kMicrosecond, .repetitions = 3};
-  pb::add("BM_Query/walk", query, BM_Query, true);
-  pb::add("BM_Query/no_cache", query, BM_Query, false);
+  pb::add("BM_Query/walk", query, BM_Query, true, false);
+  pb::add("BM_Query/no_cache", query, BM_Query, false, false);
+  pb::add("BM_Query/walk_sorted", query, BM_Query, true, true);
+  pb::add("BM_Touch/unsorted", query, BM_Touch, false);
+  pb::add("BM_Touch/sorted", query, BM_Touch, true);
   register_sweep_benchmarks();
 }
 
@@ -563,6 +617,16 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
           "per moving entity; baseline: without a cache; floor: " + fmt("%.0f", q_flops) +
               " counted ops (" + fmt("%.0f", cell_test_flops()) + " per cell tested, " +
               fmt("%.0f", interpolation_flops(kBands)) + " per interpolation)");
+  const auto per_sorted = pb::scale(cpu_ns(r, "BM_Query/walk_sorted"), 1e-4);
+  const auto touch = pb::scale(cpu_ns(r, "BM_Touch/unsorted"), 1e-4);
+  const auto touch_sorted = pb::scale(cpu_ns(r, "BM_Touch/sorted"), 1e-4);
+  add_row(s, "query: memory touched alone (cell, transform, 4 probes' SH)", "ns", touch, per_query,
+          pb::Goal::none(), std::nullopt,
+          "same entities and order as the query, loads only; ratio: the query / this");
+  add_row(s, "query: entities sorted by cell, 1 thread", "ns", per_sorted, per_query,
+          pb::Goal::none(), q_flops * ns_per_fma,
+          "baseline: unsorted (the rows above); memory touched alone, sorted: " +
+              fmt("%.1f ns", touch_sorted.value_or(NAN)));
   // Anchor: [Cupisz12], Unity: 2,000 queries in under 1 ms on an iPad 2 (one core).
   add_row(s, "anchor: 2,000 queries, 1 thread (Unity: < 1 ms on an iPad 2)", "ms",
           pb::scale(per_query, 2000 * 1e-6), 1.0, pb::Goal::value_at_most(1.0), std::nullopt,
