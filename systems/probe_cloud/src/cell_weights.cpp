@@ -46,19 +46,29 @@ double eval(const std::array<double, 4>& c, double s) {
   return ((c[0] * s + c[1]) * s + c[2]) * s + c[3];
 }
 
-// Root of the polynomial in [lo, hi] where it changes sign, by bisection (robust for any degree,
-// including leading coefficients that vanish).
+// Root of the polynomial in [lo, hi] where it changes sign: Newton steps kept inside the
+// bracket, bisection when a step would leave it or shrink it too little (robust for any degree,
+// including leading coefficients that vanish; a handful of steps instead of bisection's 50).
 double bisect(const std::array<double, 4>& c, double lo, double hi) {
   const bool lo_negative = eval(c, lo) < 0;
-  for (int i = 0; i < 200 && hi - lo > 1e-15 * std::max(1.0, hi); ++i) {
-    const double mid = 0.5 * (lo + hi);
-    if ((eval(c, mid) < 0) == lo_negative) {
-      lo = mid;
+  double s = 0.5 * (lo + hi), step_before = hi - lo;
+  for (int i = 0; i < 100; ++i) {
+    const double f = eval(c, s);
+    if (f == 0) return s;
+    if ((f < 0) == lo_negative) {
+      lo = s;
     } else {
-      hi = mid;
+      hi = s;
     }
+    const double df = (3 * c[0] * s + 2 * c[1]) * s + c[2];
+    double next = df != 0 ? s - f / df : lo - 1;  // Newton, else force a bisection
+    if (!(next > lo && next < hi) || std::abs(next - s) > 0.5 * step_before) next = 0.5 * (lo + hi);
+    step_before = std::abs(next - s);
+    s = next;
+    if (step_before <= 1e-13 * std::max(1.0, std::abs(s)) || hi - lo <= 1e-15 * std::max(1.0, hi))
+      return s;
   }
-  return 0.5 * (lo + hi);
+  return s;
 }
 
 // The smallest s > 0 with f(s) = 0 for f(0) < 0; infinity when f never reaches 0.
