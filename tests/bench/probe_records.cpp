@@ -1,12 +1,14 @@
 // The probes group's outputs besides the summary table (probe_bench.h: write_records):
 //  - --records_out: one JSON record per tetrahedralization case (ours and tetgen: points,
 //    tetrahedra, ms, baseline_ms = tetgen's, speed-up; cpu_ms, baseline_cpu_ms: CPU times, ours
-//    and the tetgen process's, steadier than wall time on a busy machine), per frame (entities,
-//    steps and fallbacks per entity, counted flops and bytes, ms, floor_ms, baseline_ms = no cache,
-//    goal) and per speed-versus-accuracy point (a cloud of the accuracy scene, tests/probe_cloud/
-//    probe_accuracy_scene.h: params spacing and bands, probes, ms of a 10,000-entity frame on 2
-//    threads, and the interpolated irradiance's rel_rms_error and max_rel_error against the
-//    reference integrator, overall and per region: interior, hull edge, outside);
+//    and the tetgen process's, steadier than wall time on a busy machine), per frame (method walk:
+//    locate_batch, baseline no_cache; method system: probes.walk on jobs::Executor(2), baseline
+//    the walk frame; entities, steps and fallbacks per entity, counted flops and bytes, ms,
+//    floor_ms, goal) and per speed-versus-accuracy point (a cloud of the accuracy scene,
+//    tests/probe_cloud/ probe_accuracy_scene.h: params spacing and bands, probes, ms of a
+//    10,000-entity frame on 2 threads, and the interpolated irradiance's rel_rms_error and
+//    max_rel_error against the reference integrator, overall and per region: interior, hull edge,
+//    outside);
 //  - --chart_out: the sweep's speed-versus-accuracy chart (bench_chart.h): ms (log) against
 //    rel_rms_error, the best trade-off ringed (the most accurate point within the goal's time
 //    for 10,000 entities; if none, the smallest ms x error).
@@ -106,7 +108,7 @@ std::vector<Record> collect(const Results& r, double ns_per_fma) {
     rec.params_json = c.kind == "frame"
                           ? "{\"bands\": " + std::to_string(c.bands) +
                                 ", \"threads\": " + std::to_string(kThreads) +
-                                ", \"cache\": " + (c.method == "walk" ? "true" : "false") + "}"
+                                ", \"cache\": " + (c.method == "no_cache" ? "false" : "true") + "}"
                           : "{\"distribution\": " + jstr(c.scene) + "}";
     out.push_back(rec);
   }
