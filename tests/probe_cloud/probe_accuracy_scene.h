@@ -8,7 +8,8 @@
 // Probe SH: the radiance the probe sees, L(w) V(p, w) (engine/reference: the environment
 // sampler's radiance, Scene::occluded for V), projected on 4 bands with kProbeDirections
 // stratified uniform directions, then convolved with the clamped cosine (sh::irradiance_convolve)
-// and cut to the cloud's bands: E(n) = sum_i sh_i y_i(n), the data header's convention.
+// and cut to the cloud's bands (or cut, then windowed against ringing: make_cloud's `dering`):
+// E(n) = sum_i sh_i y_i(n), the data header's convention.
 // Probes inside a box or on its walls are dropped (a baker would not place them there).
 // Reference: reference::environment_irradiance (MIS) at each query point for the six axis
 // normals.
@@ -137,11 +138,10 @@ inline reference::Scene make_scene(const data::EnvironmentMap& sky, bool with_bo
   return reference::Scene(desc);
 }
 
-// Irradiance SH (4 bands, per channel) at each point: the projection of L V, then the clamped
-// cosine convolution.
-inline std::vector<sh::CoeffsRgb<4>> probe_irradiance_sh(const reference::Scene& scene,
-                                                         const std::vector<glm::vec3>& points,
-                                                         int directions = kProbeDirections) {
+// Radiance SH (4 bands, per channel) at each point: the projection of L V.
+inline std::vector<sh::CoeffsRgb<4>> probe_radiance_sh(const reference::Scene& scene,
+                                                       const std::vector<glm::vec3>& points,
+                                                       int directions = kProbeDirections) {
   const int nu = std::max(1, static_cast<int>(std::sqrt(directions / 2.0))), nv = 2 * nu;
   const float weight = 4 * std::numbers::pi_v<float> / static_cast<float>(nu * nv);
   std::vector<sh::CoeffsRgb<4>> out(points.size());
@@ -164,19 +164,51 @@ inline std::vector<sh::CoeffsRgb<4>> probe_irradiance_sh(const reference::Scene&
                             for (int c = 0; c < 3; ++c)
                               for (int k = 0; k < 16; ++k) rad[c][k] += l[c] * y[k];
                           }
-                        for (int c = 0; c < 3; ++c) out[i][c] = sh::irradiance_convolve<4>(rad[c]);
+                        out[i] = rad;
                       }
                     });
   return out;
 }
 
-// The cloud of `candidates` (those inside a box or on its surface dropped) with SH cut to `bands`.
+// Irradiance SH (4 bands, per channel) at each point: the radiance's clamped cosine convolution.
+inline std::vector<sh::CoeffsRgb<4>> probe_irradiance_sh(const reference::Scene& scene,
+                                                         const std::vector<glm::vec3>& points,
+                                                         int directions = kProbeDirections) {
+  std::vector<sh::CoeffsRgb<4>> out = probe_radiance_sh(scene, points, directions);
+  for (auto& probe : out)
+    for (auto& c : probe) c = sh::irradiance_convolve<4>(c);
+  return out;
+}
+
+// The irradiance of a 4-band radiance cut to B bands, windowed against ringing
+// (sh::dering_irradiance: the weakest Hanning window that keeps it non-negative, [Sloan08]).
+template <int B>
+sh::Coeffs<4> dering_cut(const sh::Coeffs<4>& radiance) {
+  sh::Coeffs<B> r{};
+  for (int k = 0; k < B * B; ++k) r[k] = radiance[k];
+  const sh::Coeffs<B> e = sh::dering_irradiance<B>(r);
+  sh::Coeffs<4> out{};
+  for (int k = 0; k < B * B; ++k) out[k] = e[k];
+  return out;
+}
+
+// The cloud of `candidates` (those inside a box or on its surface dropped) with SH cut to `bands`;
+// `dering`: each probe's irradiance windowed against ringing at that band count.
 inline data::ProbeCloud make_cloud(const reference::Scene& scene,
-                                   const std::vector<glm::vec3>& candidates, int bands) {
+                                   const std::vector<glm::vec3>& candidates, int bands,
+                                   bool dering = false) {
   std::vector<glm::vec3> positions;
   for (const glm::vec3& p : candidates)
     if (!in_box(p, kSurfacePad)) positions.push_back(p);
-  const auto sh4 = probe_irradiance_sh(scene, positions);
+  std::vector<sh::CoeffsRgb<4>> sh4;
+  if (dering) {
+    sh4 = probe_radiance_sh(scene, positions);
+    for (auto& probe : sh4)
+      for (auto& c : probe)
+        c = bands == 2 ? dering_cut<2>(c) : bands == 3 ? dering_cut<3>(c) : dering_cut<4>(c);
+  } else {
+    sh4 = probe_irradiance_sh(scene, positions);
+  }
   const int n = bands * bands;
   std::vector<float> sh;
   sh.reserve(positions.size() * 3 * n);
