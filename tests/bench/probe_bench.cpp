@@ -441,8 +441,8 @@ std::vector<glm::vec3> sweep_points(const SweepCase& c) {
 // accuracy test's numbers), computed outside the timing.
 void BM_Sweep(benchmark::State& state, SweepCase c) {
   const SweepFixture& f = sweep_fixture();
-  const pc::ProbeTetWalk walk(
-      std::make_shared<const data::ProbeCloud>(acc::make_cloud(f.scene, sweep_points(c), c.bands)));
+  const pc::ProbeTetWalk walk(std::make_shared<const data::ProbeCloud>(
+      acc::make_cloud(f.scene, sweep_points(c), c.bands, c.windowed)));
   Movers m(kSweepEntities, acc::kVolumeMin, acc::kVolumeMax, 7);
   tbb::task_arena arena(kThreads);
   walk_frame(walk, m, arena);
@@ -713,6 +713,13 @@ const std::vector<SweepCase>& sweep_cases() {
     out.push_back(grid(1.0f, 2));
     out.push_back(grid(1.0f, 4));
     out.push_back(grid(0.5f, 2));
+    for (float spacing : {1.0f, 0.5f}) {
+      SweepCase c = grid(spacing, 3);
+      c.cloud += ", windowed";
+      c.key += "/windowed";
+      c.windowed = true;
+      out.push_back(c);
+    }
     out.push_back({"BM_Sweep/random_400/bands:3", "random 400", 0, 3});
     out.push_back({"BM_Sweep/hand_placed/bands:3", "hand-placed", 0, 3});
     return out;

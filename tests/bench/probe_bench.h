@@ -40,6 +40,7 @@ struct SweepCase {
   std::string key, cloud;  // cloud: "grid 1 m", "random 400", "hand-placed"
   float spacing = 0;       // grid spacing (0: not a grid)
   int bands = 3;
+  bool windowed = false;  // the probes' irradiance windowed against ringing (dering_irradiance)
 };
 inline constexpr int kSweepEntities = 10'000;
 const std::vector<SweepCase>& sweep_cases();

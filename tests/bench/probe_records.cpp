@@ -122,7 +122,8 @@ std::vector<Record> collect(const Results& r, double ns_per_fma) {
     rec.size = kSweepEntities;
     rec.params_json = "{\"cloud\": " + jstr(c.cloud) +
                       ", \"spacing\": " + (c.spacing > 0 ? number(c.spacing) : "null") +
-                      ", \"bands\": " + std::to_string(c.bands) + "}";
+                      ", \"bands\": " + std::to_string(c.bands) +
+                      ", \"windowed\": " + (c.windowed ? "true" : "false") + "}";
     rec.goal_ms = kGoalMs * kSweepEntities / kGoalEntities;
     out.push_back(rec);
   }
