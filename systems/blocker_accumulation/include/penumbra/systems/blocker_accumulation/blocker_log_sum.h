@@ -59,8 +59,8 @@ class BlockerLogSum {
   void flush();
 
   glm::vec3 p_, n_;
-  bool towards_centre_ = false;  // the normal of each lane points at its sphere
-  const SphereBlockerSettings& settings_;
+  bool towards_centre_ = false;     // the normal of each lane points at its sphere
+  SphereBlockerSettings settings_;  // a copy: the caller's may be a temporary
   float log_eps_;
   int pending_ = 0;
   alignas(32) float cx_[sh::kLaneCount], cy_[sh::kLaneCount], cz_[sh::kLaneCount];
