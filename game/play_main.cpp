@@ -5,7 +5,8 @@
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
 //                 [--device NAME] [--size WxH] [--points N] [--boulders N] [--boulder-detail E]
-//                 [--show-spheres] [--terrain-lod PX] [--light-budget F]
+//                 [--show-spheres] [--probe-objects N] [--probes-debug] [--terrain-lod PX]
+//                 [--light-budget F]
 //                 [--bench FILE [--bench-splits T:L,...]] [--gpu-timing-frames N]
 //
 // --scene terrain (default): the elevation model lit by the terrain shadow system under a
@@ -16,8 +17,10 @@
 // screenshots written to DIR as PNG. Both print the per-system CPU timing table and the
 // per-pass GPU timing table. --points N draws at most N particles (every k-th; 0: all).
 // --boulder-detail E: the boulders' meshes simplified to relative error E (0: full meshes).
-// --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F the
-// largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
+// --probe-objects N: the objects lit by the probe cloud (0: no cloud); --probes-debug starts
+// with its debug views on (probes, each object's cell and walk; key P toggles them in the
+// window). --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F
+// the largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
 // (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
 // and the image against full detail; --bench-splits runs the same scene again per thread split
 // (T simulation threads, L = LP_NUM_THREADS) first and includes those records. Headless, the
@@ -46,7 +49,8 @@ using penumbra::play::Options;
       "[--frames N] [--threads T] "
       "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
       "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
-      "[--points N] [--boulders N] [--boulder-detail E] [--show-spheres] [--terrain-lod PX] "
+      "[--points N] [--boulders N] [--boulder-detail E] [--show-spheres] [--probe-objects N] "
+      "[--probes-debug] [--terrain-lod PX] "
       "[--light-budget F] "
       "[--bench FILE "
       "[--bench-splits "
@@ -101,6 +105,10 @@ Options parse(int argc, char** argv) {
       o.points = static_cast<std::size_t>(number(0));
     else if (a == "--show-spheres")
       o.show_spheres = true;
+    else if (a == "--probes-debug")
+      o.probes_debug = true;
+    else if (a == "--probe-objects")
+      o.probe_objects = static_cast<int>(number(0));
     else if (a == "--boulders")
       o.boulders = static_cast<int>(number(0));
     else if (a == "--boulder-detail") {

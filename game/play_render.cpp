@@ -13,6 +13,8 @@
 
 #include <GLFW/glfw3.h>
 
+#include "penumbra/components/probe_cloud_resource.h"
+#include "penumbra/game/probe_demo.h"
 #include "penumbra/game/sample_render.h"
 #include "penumbra/game/sample_world.h"
 #include "penumbra/game/terrain_demo.h"
@@ -66,6 +68,8 @@ struct Sim {
       if (o.boulders >= 0) demo.boulders.count = o.boulders;
       demo.boulders.show_spheres = o.show_spheres;
       if (o.boulder_detail >= 0) demo.boulders.simplify_error = o.boulder_detail;
+      demo.probes.show = o.probes_debug;
+      if (o.probe_objects >= 0) demo.probes.count = o.probe_objects;
       demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
       game::populate_terrain_demo(world, demo);
       world.resource<game::HorizonProbe>().aspect =
@@ -119,6 +123,14 @@ struct Sim {
     std::printf("penumbra: %s, %zu entities, %d frames (%d warm-up), %d threads%s\n",
                 options.scene == "terrain" ? "terrain demo" : "sample world", world.size(), frames,
                 warmup, executor.threads(), what);
+    if (const auto* bake = world.try_resource<game::ProbeSkyBake>(); bake && bake->bakes > 0)
+      if (const auto* cloud = world.try_resource<components::ProbeCloudResource>();
+          cloud && cloud->cloud)
+        std::printf(
+            "probes: %zu probes, %u tetrahedra, built at start-up in %.2f s; sky re-projections "
+            "%llu (last %.2f ms)\n",
+            cloud->cloud->probe_count(), cloud->cloud->inner_count, bake->startup_seconds,
+            static_cast<unsigned long long>(bake->bakes - 1), bake->last_bake_ms);
     table.print(std::cout);
     std::cout.flush();
     if (!options.trace.empty()) {
@@ -212,6 +224,8 @@ std::vector<std::string> run_splits(const Options& o) {
       args.insert(args.end(), {"--terrain-lod", std::to_string(o.terrain_lod_pixels)});
     if (o.light_budget > 0)
       args.insert(args.end(), {"--light-budget", std::to_string(o.light_budget)});
+    if (o.probe_objects >= 0)
+      args.insert(args.end(), {"--probe-objects", std::to_string(o.probe_objects)});
     std::printf("penumbra: split %d simulation threads, LP_NUM_THREADS=%d\n", threads, lp);
     std::fflush(stdout);
     if (run_child(args, "LP_NUM_THREADS=" + std::to_string(lp)) != 0) {
@@ -403,9 +417,16 @@ int run_window(const Options& o) {
   std::vector<FrameSample> samples;
   int f = 0;
   auto last = Clock::now();
+  bool p_was_down = false;
   for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
     window.poll_events();
     if (window.escape_pressed()) window.request_close();
+    // P toggles the probe cloud's debug views (probe_demo.h), on the key's press.
+    const bool p_down = glfwGetKey(window.glfw(), GLFW_KEY_P) == GLFW_PRESS;
+    if (p_down && !p_was_down)
+      if (auto* view = sim.world.try_resource<game::ProbeDebugView>())
+        view->enabled = !view->enabled;
+    p_was_down = p_down;
     if (auto* probe = sim.world.try_resource<game::HorizonProbe>()) {
       // The horizon debug view follows the cursor (window coordinates to NDC, y down).
       double cx = 0, cy = 0;

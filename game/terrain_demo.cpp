@@ -198,6 +198,7 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
                     TerrainLighting{}, DebugLines{});
   blocker_accumulation::emplace_blocker_resources(world);
   populate_boulders(world, dir.string(), config.boulders);
+  populate_probe_demo(world, dir.string(), map, config.probes);
   world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
                     DebugSphere{});
 }
@@ -216,6 +217,7 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
       .reads<FrameTime, Terrain>()
       .writes<Camera>();
   add_boulder_systems(s);
+  add_probe_demo_systems(s);
   terrain_shadow::add_terrain_shadow_systems(s);
   blocker_accumulation::add_blocker_systems(s);
   s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })

@@ -11,6 +11,9 @@
 //                     (path), Terrain (brush edits), RenderSettings (sky rotation)
 //   demo_camera       reads FrameTime, Terrain, writes Camera (slow orbit)
 //   demo_boulders     reads FrameTime, Terrain, Boulder, writes Transform (boulders.h)
+//   demo_probe_floaters, demo_probe_sky, probes.prepare, probes.walk, demo_probe_shade,
+//   demo_probe_debug  (probe_demo.h: floating objects lit by the probe cloud over the terrain,
+//                     systems/probe_cloud's traversal, and its debug views)
 //   terrain_shadow.*  (systems/terrain_shadow)
 //   blockers.*        (systems/blocker_accumulation: the boulders' shadows, after the terrain's)
 //   demo_debug_view   reads Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe,
@@ -25,6 +28,7 @@
 
 #include "penumbra/ecs/world.h"
 #include "penumbra/game/boulders.h"
+#include "penumbra/game/probe_demo.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/systems/terrain_shadow/light_refresh.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
@@ -41,6 +45,7 @@ struct TerrainDemoConfig {
   terrain_shadow::TerrainShadowConfig shadow{};
   terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
   BoulderConfig boulders{};  // rolling blockers (boulders.h)
+  ProbeDemoConfig probes{};  // the probe cloud and the objects it lights (probe_demo.h)
 };
 
 // Resource: which texel's horizon the debug view draws, as a point on the screen in NDC

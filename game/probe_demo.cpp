@@ -1,0 +1,478 @@
+#include "penumbra/game/probe_demo.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <stdexcept>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/mat3x3.hpp>
+
+#include "penumbra/assets/gltf.h"
+#include "penumbra/assets/mesh_simplify.h"
+#include "penumbra/assets/sphere_fit.h"  // merge_instances
+#include "penumbra/components/debug_shapes.h"
+#include "penumbra/components/environment_light.h"
+#include "penumbra/components/frame_time.h"
+#include "penumbra/components/lighting_result.h"
+#include "penumbra/components/material.h"
+#include "penumbra/components/mesh.h"
+#include "penumbra/components/probe_anchor.h"
+#include "penumbra/components/probe_cloud_resource.h"
+#include "penumbra/components/probe_lighting.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
+#include "penumbra/data/mesh.h"
+#include "penumbra/data/probe_cloud.h"
+#include "penumbra/reference/scene.h"
+#include "penumbra/sh/basis.h"
+#include "penumbra/sh/convolution.h"
+#include "penumbra/sh/projection.h"
+#include "penumbra/systems/probe_cloud/probe_cloud_build.h"
+#include "penumbra/systems/probe_cloud/probe_systems.h"
+
+namespace penumbra::game {
+
+// The probes' view of the sky: the map on coarse cells, every probe's visibility per cell, and
+// the cloud the SH are written into.
+struct ProbeSkyBake::Data {
+  int w = 0, h = 0;                    // sky cells: w around, h from zenith to nadir
+  std::vector<glm::vec3> radiance;     // per map-frame cell (row-major, row 0 at the zenith), x its
+                                       // solid angle: the cell's radiant intensity per unit area
+  std::vector<sh::Coeffs<3>> basis;    // y_i of each world-frame cell's centre direction
+  std::vector<std::uint64_t> visible;  // per probe, words_per_probe words: bit c = cell c seen
+  std::size_t words_per_probe = 0;
+  data::ProbeCloud cloud;  // positions, cells, transforms; sh replaced at every projection
+};
+
+namespace {
+
+using components::DebugLine;
+using components::DebugLines;
+using components::EnvironmentLight;
+using components::FrameTime;
+using components::ProbeAnchor;
+using components::ProbeCloudResource;
+using components::ProbeLighting;
+using components::Terrain;
+using components::Transform;
+using components::VertexLighting;
+
+constexpr int kBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
+constexpr int kCoeffs = kBands * kBands;
+
+float ground_height(const Terrain& t, glm::vec2 xy) {  // bilinear, clamped to the field
+  const data::HeightField& f = *t.heights;
+  const glm::vec2 q = (xy - glm::vec2(t.origin)) / f.cell_size;
+  const float fx = std::clamp(q.x, 0.0f, static_cast<float>(f.width - 1));
+  const float fy = std::clamp(q.y, 0.0f, static_cast<float>(f.height - 1));
+  const int x0 = std::min(static_cast<int>(fx), f.width - 2);
+  const int y0 = std::min(static_cast<int>(fy), f.height - 2);
+  const float ax = fx - x0, ay = fy - y0;
+  const float h = (1 - ay) * ((1 - ax) * f.at(x0, y0) + ax * f.at(x0 + 1, y0)) +
+                  ay * ((1 - ax) * f.at(x0, y0 + 1) + ax * f.at(x0 + 1, y0 + 1));
+  return t.origin.z + t.height_scale * h;
+}
+
+glm::vec3 cell_direction(int x, int y, int w, int h) {
+  return sh::equirect_direction((x + 0.5f) / static_cast<float>(w),
+                                (y + 0.5f) / static_cast<float>(h));
+}
+
+// The map averaged onto w x h cells, each cell's radiance times its solid angle.
+std::vector<glm::vec3> coarse_sky(const data::EnvironmentMap& map, int w, int h) {
+  std::vector<glm::vec3> out(static_cast<std::size_t>(w) * h, glm::vec3(0.0f));
+  for (int y = 0; y < map.height; ++y) {
+    const float dw = sh::equirect_texel_solid_angle(y, map.width, map.height);
+    const int cy = std::min(h - 1, y * h / map.height);
+    for (int x = 0; x < map.width; ++x) {
+      const int cx = std::min(w - 1, x * w / map.width);
+      const float* t = map.texel(x, y);
+      out[static_cast<std::size_t>(cy) * w + cx] += dw * glm::vec3(t[0], t[1], t[2]);
+    }
+  }
+  return out;
+}
+
+// The irradiance SH of every probe (data/probe_cloud.h layout) for the sky turned by `shift`
+// cells counter-clockwise: world cell (x, y) sees map cell (x - shift, y).
+std::vector<float> project(const ProbeSkyBake::Data& d, int shift) {
+  const std::size_t probes = d.cloud.probe_count();
+  std::vector<float> out(probes * 3 * kCoeffs);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes, 8),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t p = r.begin(); p != r.end(); ++p) {
+                        sh::CoeffsRgb<kBands> rad{};
+                        const std::uint64_t* bits = d.visible.data() + p * d.words_per_probe;
+                        for (int y = 0; y < d.h; ++y)
+                          for (int x = 0; x < d.w; ++x) {
+                            const std::size_t c = static_cast<std::size_t>(y) * d.w + x;
+                            if (!(bits[c >> 6] >> (c & 63) & 1)) continue;
+                            const int mx = ((x - shift) % d.w + d.w) % d.w;
+                            const glm::vec3& l = d.radiance[static_cast<std::size_t>(y) * d.w + mx];
+                            const sh::Coeffs<kBands>& b = d.basis[c];
+                            for (int k = 0; k < kCoeffs; ++k) {
+                              rad[0][k] += l.x * b[k];
+                              rad[1][k] += l.y * b[k];
+                              rad[2][k] += l.z * b[k];
+                            }
+                          }
+                        for (int ch = 0; ch < 3; ++ch) {
+                          const sh::Coeffs<kBands> e = sh::irradiance_convolve<kBands>(rad[ch]);
+                          std::copy(e.begin(), e.end(), out.begin() + (p * 3 + ch) * kCoeffs);
+                        }
+                      }
+                    });
+  return out;
+}
+
+int sky_shift(float rotation, int w) {
+  const float step = 2 * std::numbers::pi_v<float> / static_cast<float>(w);
+  const long s = std::lround(rotation / step);
+  return static_cast<int>(((s % w) + w) % w);
+}
+
+std::shared_ptr<const data::ProbeCloud> cloud_with_sh(const ProbeSkyBake::Data& d, int shift) {
+  auto cloud = std::make_shared<data::ProbeCloud>(d.cloud);
+  cloud->sh = project(d, shift);
+  return cloud;
+}
+
+// Area-weighted vertex normals where the model has none (as boulders.cpp).
+std::vector<glm::vec3> vertex_normals(const data::MeshData& m) {
+  if (m.normals.size() == m.positions.size()) return m.normals;
+  std::vector<glm::vec3> n(m.positions.size(), glm::vec3(0.0f));
+  for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
+    const glm::vec3 &a = m.positions[m.indices[i]], &b = m.positions[m.indices[i + 1]],
+                    &c = m.positions[m.indices[i + 2]];
+    const glm::vec3 f = glm::cross(b - a, c - a);
+    for (int k = 0; k < 3; ++k) n[m.indices[i + k]] += f;
+  }
+  for (glm::vec3& v : n) {
+    const float l = glm::length(v);
+    v = l > 0 ? v / l : glm::vec3(0, 0, 1);
+  }
+  return n;
+}
+
+const Terrain* find_terrain(ecs::World& w) {
+  const Terrain* terrain = nullptr;
+  w.query<const Terrain>().each([&](const Terrain& x) {
+    if (!terrain && x.heights) terrain = &x;
+  });
+  return terrain;
+}
+
+void float_along(ecs::World& w) {
+  const float t = static_cast<float>(w.resource<const FrameTime>().elapsed);
+  const Terrain* terrain = find_terrain(w);
+  w.query<const ProbeFloater, Transform>().each([&](const ProbeFloater& f, Transform& out) {
+    const float a = f.phase + f.speed * t / f.path_radius;
+    const glm::vec2 xy = f.path_radius * glm::vec2(std::cos(a), std::sin(a));
+    // The highest ground under the object (centre and four points at its radius), so that it
+    // clears the hills it crosses.
+    float ground = 0;
+    if (terrain) {
+      ground = ground_height(*terrain, xy);
+      for (const glm::vec2 d :
+           {glm::vec2(1, 0), glm::vec2(-1, 0), glm::vec2(0, 1), glm::vec2(0, -1)})
+        ground = std::max(ground, ground_height(*terrain, xy + f.radius * d));
+    }
+    const float heading = a + (f.speed >= 0 ? 0.5f : -0.5f) * std::numbers::pi_v<float>;
+    glm::mat4 m = glm::translate(glm::mat4(1.0f), glm::vec3(xy, ground + f.hover));
+    m = glm::rotate(m, heading, glm::vec3(0, 0, 1));
+    m = glm::rotate(m, 0.5f * std::numbers::pi_v<float>, glm::vec3(1, 0, 0));  // glTF: y up
+    m = glm::scale(m, glm::vec3(f.scale));
+    out.world = glm::translate(m, -f.model_centre);
+  });
+}
+
+void turn_sky(ecs::World& w) {
+  ProbeSkyBake& bake = w.resource<ProbeSkyBake>();
+  const EnvironmentLight* env = w.try_resource<const EnvironmentLight>();
+  if (!bake.data || !env) return;
+  const int shift = sky_shift(env->rotation_z, bake.data->w);
+  if (shift == bake.shift) return;
+  const auto t0 = std::chrono::steady_clock::now();
+  w.resource<ProbeCloudResource>().replace(cloud_with_sh(*bake.data, shift));
+  bake.last_bake_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  bake.shift = shift;
+  ++bake.bakes;
+}
+
+// E(n) / pi per vertex normal from the object's irradiance SH (engine/sh: E(n) = sum_i e_i
+// y_i(n)), clamped at 0: radiance per unit albedo, as blockers.shade gives the boulders.
+void shade(ecs::World& w) {
+  w.query<const ProbeLighting, const Transform, const ProbeShadedMesh, VertexLighting>().each(
+      [&](const ProbeLighting& l, const Transform& t, const ProbeShadedMesh& m,
+          VertexLighting& out) {
+        if (!l.valid || !m.normals) return;  // no cloud yet: keeps what it had
+        const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(t.world)));
+        auto rgb = std::make_shared<std::vector<glm::vec3>>(m.normals->size());
+        for (std::size_t i = 0; i < rgb->size(); ++i) {
+          glm::vec3 n = nm * (*m.normals)[i];
+          const float len = glm::length(n);
+          n = len > 0 && std::isfinite(len) ? n / len : glm::vec3(0, 0, 1);
+          const sh::Coeffs<ProbeLighting::kBands> y = sh::eval_basis<ProbeLighting::kBands>(n);
+          glm::vec3 e(0.0f);
+          for (int k = 0; k < sh::kCount<ProbeLighting::kBands>; ++k)
+            e += y[k] * glm::vec3(l.irradiance[0][k], l.irradiance[1][k], l.irradiance[2][k]);
+          (*rgb)[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
+        }
+        out.rgb = std::move(rgb);
+      });
+}
+
+// A probe's irradiance averaged over normals (the SH's DC term) as a displayable HDR colour:
+// Reinhard about the cloud's median: the median probe 1, dark ones towards 0, bright ones up to 2.
+glm::vec3 probe_colour(const data::ProbeCloud& c, std::size_t p, float median) {
+  const float* s = c.probe_sh(p);
+  const std::size_t n = static_cast<std::size_t>(c.bands * c.bands);
+  const glm::vec3 e = glm::max(glm::vec3(s[0], s[n], s[2 * n]), glm::vec3(0.0f));
+  const float lum = 0.2126f * e.x + 0.7152f * e.y + 0.0722f * e.z;
+  return 2.0f * e / (lum + median + 1e-20f);
+}
+
+void add_circle(std::vector<DebugLine>& out, const glm::vec3& c, float r, int axis,
+                const glm::vec3& colour) {
+  constexpr int kSegments = 8;
+  glm::vec3 prev{};
+  for (int k = 0; k <= kSegments; ++k) {
+    const float a = 2 * std::numbers::pi_v<float> * k / kSegments;
+    glm::vec3 q(0.0f);
+    q[(axis + 1) % 3] = r * std::cos(a);
+    q[(axis + 2) % 3] = r * std::sin(a);
+    if (k > 0) out.push_back({prev, c + q, colour});
+    prev = c + q;
+  }
+}
+
+// A cell's centre for the walk path: an inner cell's centroid; an outer cell's hull triangle
+// centroid moved out along its vertices' mean hull normal by a third of the triangle's size.
+glm::vec3 cell_centre(const data::ProbeCloud& c, std::int32_t cell) {
+  const data::ProbeCell& k = c.cells[static_cast<std::size_t>(cell)];
+  if (!k.outer()) {
+    glm::vec3 s(0.0f);
+    for (std::int32_t v : k.vertices) s += c.positions[static_cast<std::size_t>(v)];
+    return 0.25f * s;
+  }
+  glm::vec3 s(0.0f), n(0.0f);
+  float size = 0;
+  for (int i = 0; i < 3; ++i) {
+    const auto v = static_cast<std::size_t>(k.vertices[i]);
+    s += c.positions[v];
+    n += c.hull_normals[v];
+    size =
+        std::max(size, glm::length(c.positions[v] -
+                                   c.positions[static_cast<std::size_t>(k.vertices[(i + 1) % 3])]));
+  }
+  const float l = glm::length(n);
+  return s / 3.0f + (l > 0 ? n / l : glm::vec3(0.0f)) * (size / 3.0f);
+}
+
+void debug_view(ecs::World& w) {
+  const ProbeDebugView& view = w.resource<const ProbeDebugView>();
+  const probe_cloud::ProbeWalkState& state = w.resource<const probe_cloud::ProbeWalkState>();
+  const probe_cloud::ProbeTetWalk* walk = state.walk.get();
+  const bool on = view.enabled && walk;
+  // The probes: three wire circles each, coloured by their irradiance.
+  w.query<const ProbeCloudView, DebugLines>().each([&](const ProbeCloudView&, DebugLines& out) {
+    out.lines.clear();
+    if (!on) return;
+    const data::ProbeCloud& c = walk->cloud();
+    std::vector<float> lum(c.probe_count());
+    const std::size_t n = static_cast<std::size_t>(c.bands * c.bands);
+    for (std::size_t p = 0; p < lum.size(); ++p) {
+      const float* s = c.probe_sh(p);
+      lum[p] = 0.2126f * s[0] + 0.7152f * s[n] + 0.0722f * s[2 * n];
+    }
+    std::vector<float> sorted = lum;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const float median = sorted.empty() ? 1.0f : std::max(sorted[sorted.size() / 2], 1e-20f);
+    out.lines.reserve(c.probe_count() * 24);
+    for (std::size_t p = 0; p < c.probe_count(); ++p) {
+      const glm::vec3 colour = probe_colour(c, p, median);
+      for (int axis = 0; axis < 3; ++axis)
+        add_circle(out.lines, c.positions[p], view.probe_radius, axis, colour);
+    }
+  });
+  // Each object: the cell it uses (an inner cell's 6 edges, an outer cell's hull triangle and
+  // its vertices' hull normals), and this frame's walk through the cells' centres.
+  w.query<const ProbeAnchor, ProbeWalkTrace, DebugLines>().each(
+      [&](const ProbeAnchor& a, ProbeWalkTrace& trace, DebugLines& out) {
+        out.lines.clear();
+        const std::int32_t start = trace.generation == state.generation ? trace.cell : -1;
+        trace = {a.cell, a.generation};
+        if (!on || a.cell < 0 || a.generation != state.generation) return;
+        const data::ProbeCloud& c = walk->cloud();
+        const data::ProbeCell& k = c.cells[static_cast<std::size_t>(a.cell)];
+        const auto pos = [&](int i) {
+          return c.positions[static_cast<std::size_t>(k.vertices[i])];
+        };
+        if (!k.outer()) {
+          const glm::vec3 colour(4.0f, 3.2f, 0.4f);
+          for (int i = 0; i < 4; ++i)
+            for (int j = i + 1; j < 4; ++j) out.lines.push_back({pos(i), pos(j), colour});
+        } else {
+          const glm::vec3 colour(4.0f, 1.2f, 0.2f);
+          for (int i = 0; i < 3; ++i) {
+            out.lines.push_back({pos(i), pos((i + 1) % 3), colour});
+            const glm::vec3 nrm = c.hull_normals[static_cast<std::size_t>(k.vertices[i])];
+            out.lines.push_back({pos(i), pos(i) + 1000.0f * nrm, colour});
+          }
+        }
+        std::vector<std::int32_t> path;
+        walk->locate(a.point, start, &path);
+        glm::vec3 prev = a.point;
+        for (std::size_t i = 0; i < path.size(); ++i) {
+          const glm::vec3 q = cell_centre(c, path[i]);
+          if (i > 0) out.lines.push_back({prev, q, {3.0f, 0.4f, 3.0f}});
+          prev = q;
+        }
+        if (!path.empty()) out.lines.push_back({prev, a.point, {3.0f, 0.4f, 3.0f}});
+      });
+}
+
+}  // namespace
+
+void populate_probe_demo(ecs::World& world, const std::string& data_dir,
+                         std::shared_ptr<const data::EnvironmentMap> map,
+                         const ProbeDemoConfig& config) {
+  world.emplace_resource<ProbeDebugView>(ProbeDebugView{config.show});
+  world.emplace_resource<ProbeSkyBake>();
+  if (config.count <= 0) {
+    probe_cloud::emplace_probe_cloud_resources(world);  // no cloud: the systems do nothing
+    return;
+  }
+  const Terrain* terrain = find_terrain(world);
+  if (!terrain || !map) throw std::invalid_argument("probe demo: needs a terrain and a sky map");
+  if (config.grid < 2 || config.heights.empty() || config.sky_width < 4 || config.sky_width % 2)
+    throw std::invalid_argument("probe demo: grid >= 2, one height at least, even sky_width >= 4");
+  const auto t0 = std::chrono::steady_clock::now();
+
+  // Probes: a grid over the terrain at each height above the local ground.
+  const data::HeightField& f = *terrain->heights;
+  const float extent = f.cell_size * static_cast<float>(f.width - 1);
+  std::vector<glm::vec3> positions;
+  for (float h : config.heights)
+    for (int j = 0; j < config.grid; ++j)
+      for (int i = 0; i < config.grid; ++i) {
+        const glm::vec2 xy = glm::vec2(terrain->origin) +
+                             extent * glm::vec2(i, j) / static_cast<float>(config.grid - 1);
+        positions.emplace_back(xy, ground_height(*terrain, xy) + h);
+      }
+  probe_cloud::ProbeCloudBuildSettings build;
+  build.bands = kBands;
+  auto data = std::make_shared<ProbeSkyBake::Data>();
+  data->cloud = probe_cloud::build_probe_cloud(positions, {}, build);
+
+  // The sky on coarse cells, and each probe's visibility of every cell through the terrain
+  // (the field at the demo's vertical exaggeration, as the terrain system sees it).
+  data->w = config.sky_width;
+  data->h = config.sky_width / 2;
+  data->radiance = coarse_sky(*map, data->w, data->h);
+  const std::size_t cells = static_cast<std::size_t>(data->w) * data->h;
+  data->basis.resize(cells);
+  for (int y = 0; y < data->h; ++y)
+    for (int x = 0; x < data->w; ++x)
+      data->basis[static_cast<std::size_t>(y) * data->w + x] =
+          sh::eval_basis<kBands>(cell_direction(x, y, data->w, data->h));
+  reference::SceneDesc desc;
+  reference::HeightFieldInstance field{f, terrain->origin};
+  for (float& v : field.field.heights) v *= terrain->height_scale;
+  desc.height_fields.push_back(std::move(field));
+  const reference::Scene scene(desc);
+  data->words_per_probe = (cells + 63) / 64;
+  const std::size_t probes = data->cloud.probe_count();
+  data->visible.assign(probes * data->words_per_probe, 0);
+  const float far = 10.0f * extent;
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, probes, 4), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t p = r.begin(); p != r.end(); ++p) {
+          std::uint64_t* bits = data->visible.data() + p * data->words_per_probe;
+          for (std::size_t c = 0; c < cells; ++c) {
+            const glm::vec3 d = cell_direction(static_cast<int>(c % data->w),
+                                               static_cast<int>(c / data->w), data->w, data->h);
+            if (!scene.occluded(data->cloud.positions[p], d, far))
+              bits[c >> 6] |= std::uint64_t{1} << (c & 63);
+          }
+        }
+      });
+  probe_cloud::emplace_probe_cloud_resources(world, cloud_with_sh(*data, 0));
+  ProbeSkyBake& bake = world.resource<ProbeSkyBake>();
+  bake.data = std::move(data);
+  bake.bakes = 1;
+
+  // The objects: the models simplified as the boulders', bunny and Suzanne alternating.
+  struct Model {
+    std::shared_ptr<const data::MeshData> mesh;
+    std::shared_ptr<const std::vector<glm::vec3>> normals;
+    glm::vec3 centre{0.0f};
+    float radius = 1;
+  };
+  std::vector<Model> models;
+  for (const char* name : {"suzi", "bunny"}) {
+    const std::filesystem::path file =
+        std::filesystem::path(data_dir) / "models" / (std::string(name) + ".glb");
+    auto mesh = std::make_shared<data::MeshData>(assets::merge_instances(assets::load_gltf(file)));
+    if (config.simplify_error > 0)
+      *mesh = assets::simplify_mesh(*mesh, {0.1f, config.simplify_error}).mesh;
+    Model m;
+    glm::vec3 lo(1e30f), hi(-1e30f);
+    for (const glm::vec3& p : mesh->positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    m.centre = 0.5f * (lo + hi);
+    m.radius = 0;
+    for (const glm::vec3& p : mesh->positions)
+      m.radius = std::max(m.radius, glm::length(p - m.centre));
+    m.normals = std::make_shared<const std::vector<glm::vec3>>(vertex_normals(*mesh));
+    m.mesh = std::move(mesh);
+    models.push_back(std::move(m));
+  }
+  for (int i = 0; i < config.count; ++i) {
+    const Model& m = models[static_cast<std::size_t>(i % 2)];
+    ProbeFloater fl;
+    fl.path_radius = extent * (0.1f + 0.3f * static_cast<float>(i) / config.count);
+    fl.phase = 1.3f + 2.4f * static_cast<float>(i);
+    fl.speed = (i % 2 ? -1.0f : 1.0f) * (220.0f + 30.0f * static_cast<float>(i % 3));
+    fl.hover = config.hover;
+    fl.radius = config.radius;
+    fl.scale = config.radius / std::max(m.radius, 1e-6f);
+    fl.model_centre = m.centre;
+    world.create_with(fl, Transform{}, components::MeshInstance{m.mesh},
+                      components::Material{glm::vec3(0.7f), 0.0f}, ProbeAnchor{}, ProbeLighting{},
+                      ProbeShadedMesh{m.normals}, VertexLighting{}, ProbeWalkTrace{}, DebugLines{});
+  }
+  world.create_with(ProbeCloudView{}, DebugLines{});
+  world.resource<ProbeSkyBake>().startup_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+void add_probe_demo_systems(jobs::Schedule& s) {
+  s.add_task("demo_probe_floaters", [](jobs::SystemContext& ctx) { float_along(ctx.world()); })
+      .reads<FrameTime, Terrain, ProbeFloater>()
+      .writes<Transform>();
+  s.add_task("demo_probe_sky", [](jobs::SystemContext& ctx) { turn_sky(ctx.world()); })
+      .reads<EnvironmentLight>()
+      .writes<ProbeSkyBake, ProbeCloudResource>();
+  probe_cloud::add_probe_cloud_systems(s);
+  s.add_task("demo_probe_shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
+      .reads<ProbeLighting, Transform, ProbeShadedMesh>()
+      .writes<VertexLighting>();
+  s.add_task("demo_probe_debug", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
+      .reads<ProbeDebugView, probe_cloud::ProbeWalkState, ProbeAnchor, ProbeCloudView>()
+      .writes<DebugLines, ProbeWalkTrace>();
+}
+
+}  // namespace penumbra::game
