@@ -92,7 +92,12 @@ void walk_chunk(jobs::SystemContext& ctx,
   const auto anchors = c.get<ProbeAnchor>();
   const auto lighting = c.get<ProbeLighting>();
   const auto entities = c.entities();
+  const auto cached_cell = [&](std::size_t k) {
+    return anchors[k].generation == state.generation ? anchors[k].cell : kNoCell;
+  };
   for (std::size_t i = 0; i < c.size(); ++i) {
+    if (i + kPrefetchCells < c.size()) walk.prefetch(cached_cell(i + kPrefetchCells), false);
+    if (i + kPrefetchProbes < c.size()) walk.prefetch(cached_cell(i + kPrefetchProbes), true);
     ProbeAnchor& a = anchors[i];
     const glm::vec3 p = glm::vec3(transforms[i].world * glm::vec4(a.offset, 1.0f));
     if (!finite(p)) {

@@ -416,6 +416,8 @@ std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
                                 std::to_string(out.size()) + " outputs (must be equal)");
   std::size_t fallbacks = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
+    if (i + kPrefetchCells < points.size()) prefetch(cells[i + kPrefetchCells], false);
+    if (i + kPrefetchProbes < points.size()) prefetch(cells[i + kPrefetchProbes], true);
     const ProbeWalkResult r = locate(points[i], cells[i]);
     cells[i] = r.cell;
     out[i] = interpolate(r);

@@ -56,6 +56,11 @@ inline constexpr float kInsideTolerance = 1e-5f;
 inline constexpr int kProbeShBands = data::kProbeMaxBands;
 using ProbeSh = sh::CoeffsRgb<kProbeShBands>;
 
+// How far ahead batch loops (locate_batch, probes.walk) hint the cache with prefetch(): the
+// cells and transforms 8 points ahead, the probes' SH 4 ahead.
+inline constexpr std::size_t kPrefetchCells = 16;
+inline constexpr std::size_t kPrefetchProbes = 8;
+
 struct ProbeWalkSettings {
   int max_steps = 64;      // steps of the walk from the start cell before the fallback locate
   float far_cells = 4.0f;  // a start cell farther than this many grid cells: fallback at once
@@ -109,6 +114,21 @@ class ProbeTetWalk {
 
   // The four probes' SH weighted by the result's weights.
   ProbeSh interpolate(const ProbeWalkResult& r) const;
+  // A hint to the cache: what locate() from `cell` reads first (the cell and its transform) and,
+  // with `probes`, its probes' SH (this reads the cell: issue the first hint a few points
+  // earlier). Batch loops call it some entities ahead, so the cached cells' memory arrives while
+  // earlier entities compute (each locate otherwise waits on its cell's first load). No effect
+  // on results; any value of `cell` is allowed (out of range: nothing).
+  void prefetch(std::int32_t cell, bool probes) const {
+    const data::ProbeCloud& c = *cloud_;
+    if (cell < 0 || static_cast<std::size_t>(cell) >= c.cells.size()) return;
+    const auto k = static_cast<std::size_t>(cell);
+    __builtin_prefetch(&c.cells[k]);
+    __builtin_prefetch(&c.transforms[k]);
+    if (!probes) return;
+    for (std::int32_t v : c.cells[k].vertices)
+      if (v >= 0) __builtin_prefetch(c.probe_sh(static_cast<std::size_t>(v)));
+  }
 
   // locate + interpolate for many points: cells[i] is the start on entry and the found cell on
   // return; out[i] the SH. Spans of equal size (std::invalid_argument otherwise). Returns the
