@@ -29,6 +29,9 @@
 
 namespace penumbra::bench::blockers {
 namespace {
+using bench_json::jnum;
+using bench_json::jstr;
+using bench_json::load_average;
 
 constexpr double kThreads = 2;
 constexpr double kGoalMs = 30;              // issue 11: 100,000 receivers x 400 blockers, 2 cores
@@ -45,32 +48,13 @@ struct Record {
   float min_sin = 0, far_error = 0;
 };
 
-std::string jnum(std::optional<double> v, int precision = 6) {
-  return bench_json::number(v, precision);
-}
-std::string jstr(const std::string& s) {
-  return bench_json::string(s);
-}
-
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-std::optional<double> load_average() {
-  double l[1];
-  if (getloadavg(l, 1) != 1) return std::nullopt;
-  return l[0];
-}
-
 // A record's params: bands, min_sin (0 for all pairs), hierarchy, far_error (clusters).
 std::string params_json(const std::string& method, int bands, float min_sin, float far_error) {
   std::string p = "{\"bands\": " + std::to_string(bands) +
-                  ", \"min_sin\": " + number(method == "all_pairs" ? 0.0 : min_sin) +
+                  ", \"min_sin\": " + bench_json::compact(method == "all_pairs" ? 0.0 : min_sin) +
                   ", \"hierarchy\": " +
                   (method == "hierarchy" || method == "clusters" ? "\"objects\"" : "\"off\"");
-  if (method == "clusters") p += ", \"far_error\": " + number(far_error);
+  if (method == "clusters") p += ", \"far_error\": " + bench_json::compact(far_error);
   return p + "}";
 }
 
@@ -213,9 +197,9 @@ std::string chart_svg(const std::vector<Record>& records,
     std::string label("N");  // not "N" + std::to_string(): GCC 12's -Wrestrict false positive
     label += std::to_string(r.bands);
     if (r.method == "clusters" && r.far_error != ba::ReceiverClusterSettings{}.far_error)
-      label += " e" + number(r.far_error);
+      label += " e" + bench_json::compact(r.far_error);
     else if (r.method != "all_pairs")
-      label += " s" + number(r.min_sin);
+      label += " s" + bench_json::compact(r.min_sin);
     pts.push_back({.ms = *r.ms,
                    .error_percent = *r.rel_rms * 100,
                    .series = r.scene + " " + (r.method == "all_pairs" ? "all pairs" : r.method),
@@ -243,10 +227,10 @@ std::string chart_svg(const std::vector<Record>& records,
   spec.empty_text = "no sweep points in this run";
   spec.legend_title = "scene, method";
   spec.front_note = "dashed grey: Pareto front per scene";
-  spec.best_note = "ringed: fastest within " + number(100 * kErrorBudget) + "% error";
+  spec.best_note = "ringed: fastest within " + bench_json::compact(100 * kErrorBudget) + "% error";
   spec.notes = {"(vs all pairs: same and 5 bands)", "clusters: far_error 0.005,",
                 "e: far_error at min_sin 0.05", "all pairs: 0 by definition",
-                "hollow on top: error above " + number(kErrorLimit) + "%"};
+                "hollow on top: error above " + bench_json::compact(kErrorLimit) + "%"};
   spec.error_limit = kErrorLimit;
   for (const auto& [scene, key] : best) spec.ringed.push_back(key);
   return bench::chart_svg(spec, pts);

@@ -37,6 +37,7 @@
 #include <utility>
 #include <vector>
 
+#include "bench_json.h"
 #include "bench_registry.h"
 #include "blocker_bench.h"
 #include "penumbra/sh/exp_log.h"
@@ -231,12 +232,6 @@ void BM_Sweep(benchmark::State& state, bb::SweepPoint p) {
   state.counters["rel_rms_vs_all_pairs_5_bands"] = a.rel_rms_5;
 }
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 }  // namespace
 
 namespace penumbra::bench::blockers {
@@ -254,8 +249,8 @@ const std::vector<SweepPoint>& sweep_points() {
       p.far_error = method == "clusters" ? far_error : 0.0f;
       p.receivers = kWindowSide * kWindowSide;
       p.key = "BM_Sweep/" + scene + "/" + method + "/bands:" + std::to_string(bands);
-      if (method != "all_pairs") p.key += "/min_sin:" + number(min_sin);
-      if (method == "clusters") p.key += "/far_error:" + number(far_error);
+      if (method != "all_pairs") p.key += "/min_sin:" + bench_json::compact(min_sin);
+      if (method == "clusters") p.key += "/far_error:" + bench_json::compact(far_error);
       out.push_back(p);
     };
     for (const char* scene : {"scattered:400", "objects:400"}) {

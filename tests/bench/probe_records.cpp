@@ -30,6 +30,9 @@
 
 namespace penumbra::bench::probes {
 namespace {
+using bench_json::jnum;
+using bench_json::jstr;
+using bench_json::load_average;
 
 struct Record {
   std::string key, kind, scene, method, params_json;
@@ -40,24 +43,6 @@ struct Record {
   std::optional<double> probes, rel_rms, max_rel, ref_se;
   std::optional<double> region_rms[3];
 };
-
-std::string jnum(std::optional<double> v, int precision = 6) {
-  return bench_json::number(v, precision);
-}
-std::string jstr(const std::string& s) {
-  return bench_json::string(s);
-}
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-std::optional<double> load_average() {
-  double l[1];
-  if (getloadavg(l, 1) != 1) return std::nullopt;
-  return l[0];
-}
 
 Record measured(const Results& r, double ns_per_fma, const std::string& key) {
   Record rec;
@@ -120,8 +105,8 @@ std::vector<Record> collect(const Results& r, double ns_per_fma) {
     rec.method = c.cloud;
     rec.bands = c.bands;
     rec.size = kSweepEntities;
-    rec.params_json = "{\"cloud\": " + jstr(c.cloud) +
-                      ", \"spacing\": " + (c.spacing > 0 ? number(c.spacing) : "null") +
+    rec.params_json = "{\"cloud\": " + jstr(c.cloud) + ", \"spacing\": " +
+                      (c.spacing > 0 ? bench_json::compact(c.spacing) : "null") +
                       ", \"bands\": " + std::to_string(c.bands) +
                       ", \"windowed\": " + (c.windowed ? "true" : "false") + "}";
     rec.goal_ms = kGoalMs * kSweepEntities / kGoalEntities;

@@ -11,20 +11,9 @@
 
 namespace penumbra::terrain_bench {
 namespace {
-
-std::string jnum(std::optional<double> v, int precision = 6) {
-  return bench_json::number(v, precision);
-}
-std::string jstr(const std::string& s) {
-  return bench_json::string(s);
-}
-
-// 1-minute load average (other processes make the 2-thread timings slower), if available.
-std::optional<double> load_average() {
-  double l[1];
-  if (getloadavg(l, 1) != 1) return std::nullopt;
-  return l[0];
-}
+using bench_json::jnum;
+using bench_json::jstr;
+using bench_json::load_average;
 
 // Series of the chart: one colour per method and varied parameter.
 std::string series_of(const CaseInfo& c) {
