@@ -25,6 +25,7 @@
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/data/height_field.h"
+#include "terrain_height.h"
 
 namespace penumbra::game {
 namespace {
@@ -32,23 +33,6 @@ namespace {
 using components::FrameTime;
 using components::Terrain;
 using components::Transform;
-
-// Area-weighted vertex normals where the model has none.
-std::vector<glm::vec3> vertex_normals(const data::MeshData& m) {
-  if (m.normals.size() == m.positions.size()) return m.normals;
-  std::vector<glm::vec3> n(m.positions.size(), glm::vec3(0.0f));
-  for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
-    const glm::vec3 &a = m.positions[m.indices[i]], &b = m.positions[m.indices[i + 1]],
-                    &c = m.positions[m.indices[i + 2]];
-    const glm::vec3 f = glm::cross(b - a, c - a);
-    for (int k = 0; k < 3; ++k) n[m.indices[i + k]] += f;
-  }
-  for (glm::vec3& v : n) {
-    const float l = glm::length(v);
-    v = l > 0 ? v / l : glm::vec3(0, 0, 1);
-  }
-  return n;
-}
 
 // The model's sphere set: from the cache when it holds a valid fit of this model with this
 // count, else fitted now (and cached).
@@ -79,19 +63,6 @@ std::vector<data::Sphere> sphere_set(const data::MeshData& mesh, const std::stri
     assets::write_sphere_file(cached, assets::to_sphere_file(fit, name));
   }
   return fit.spheres;
-}
-
-float terrain_height(const Terrain& t, glm::vec2 xy) {
-  const data::HeightField& f = *t.heights;
-  const glm::vec2 q = (xy - glm::vec2(t.origin)) / f.cell_size;
-  const float fx = std::clamp(q.x, 0.0f, static_cast<float>(f.width - 1));
-  const float fy = std::clamp(q.y, 0.0f, static_cast<float>(f.height - 1));
-  const int x0 = std::min(static_cast<int>(fx), f.width - 2);
-  const int y0 = std::min(static_cast<int>(fy), f.height - 2);
-  const float ax = fx - x0, ay = fy - y0;
-  const float h = (1 - ay) * ((1 - ax) * f.at(x0, y0) + ax * f.at(x0 + 1, y0)) +
-                  ay * ((1 - ax) * f.at(x0, y0 + 1) + ax * f.at(x0 + 1, y0 + 1));
-  return t.origin.z + t.height_scale * h;
 }
 
 void roll(ecs::World& w) {
@@ -179,7 +150,7 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
     if (config.simplify_error > 0)  // drawn and shaded small (the spheres fit the full mesh)
       *mesh = assets::simplify_mesh(*mesh, {0.1f, config.simplify_error}).mesh;
     m.points = std::make_shared<const std::vector<glm::vec3>>(mesh->positions);
-    m.normals = std::make_shared<const std::vector<glm::vec3>>(vertex_normals(*mesh));
+    m.normals = std::make_shared<const std::vector<glm::vec3>>(data::vertex_normals(*mesh));
     m.mesh = std::move(mesh);
     models.push_back(std::move(m));
   }

@@ -38,6 +38,7 @@
 #include "penumbra/sh/projection.h"
 #include "penumbra/systems/probe_cloud/probe_cloud_build.h"
 #include "penumbra/systems/probe_cloud/probe_systems.h"
+#include "terrain_height.h"
 
 namespace penumbra::game {
 
@@ -68,19 +69,6 @@ using components::VertexLighting;
 
 constexpr int kBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
 constexpr int kCoeffs = kBands * kBands;
-
-float ground_height(const Terrain& t, glm::vec2 xy) {  // bilinear, clamped to the field
-  const data::HeightField& f = *t.heights;
-  const glm::vec2 q = (xy - glm::vec2(t.origin)) / f.cell_size;
-  const float fx = std::clamp(q.x, 0.0f, static_cast<float>(f.width - 1));
-  const float fy = std::clamp(q.y, 0.0f, static_cast<float>(f.height - 1));
-  const int x0 = std::min(static_cast<int>(fx), f.width - 2);
-  const int y0 = std::min(static_cast<int>(fy), f.height - 2);
-  const float ax = fx - x0, ay = fy - y0;
-  const float h = (1 - ay) * ((1 - ax) * f.at(x0, y0) + ax * f.at(x0 + 1, y0)) +
-                  ay * ((1 - ax) * f.at(x0, y0 + 1) + ax * f.at(x0 + 1, y0 + 1));
-  return t.origin.z + t.height_scale * h;
-}
 
 glm::vec3 cell_direction(int x, int y, int w, int h) {
   return sh::equirect_direction((x + 0.5f) / static_cast<float>(w),
@@ -146,23 +134,6 @@ std::shared_ptr<const data::ProbeCloud> cloud_with_sh(const ProbeSkyBake::Data& 
   return cloud;
 }
 
-// Area-weighted vertex normals where the model has none (as boulders.cpp).
-std::vector<glm::vec3> vertex_normals(const data::MeshData& m) {
-  if (m.normals.size() == m.positions.size()) return m.normals;
-  std::vector<glm::vec3> n(m.positions.size(), glm::vec3(0.0f));
-  for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3) {
-    const glm::vec3 &a = m.positions[m.indices[i]], &b = m.positions[m.indices[i + 1]],
-                    &c = m.positions[m.indices[i + 2]];
-    const glm::vec3 f = glm::cross(b - a, c - a);
-    for (int k = 0; k < 3; ++k) n[m.indices[i + k]] += f;
-  }
-  for (glm::vec3& v : n) {
-    const float l = glm::length(v);
-    v = l > 0 ? v / l : glm::vec3(0, 0, 1);
-  }
-  return n;
-}
-
 const Terrain* find_terrain(ecs::World& w) {
   const Terrain* terrain = nullptr;
   w.query<const Terrain>().each([&](const Terrain& x) {
@@ -181,10 +152,10 @@ void float_along(ecs::World& w) {
     // clears the hills it crosses.
     float ground = 0;
     if (terrain) {
-      ground = ground_height(*terrain, xy);
+      ground = terrain_height(*terrain, xy);
       for (const glm::vec2 d :
            {glm::vec2(1, 0), glm::vec2(-1, 0), glm::vec2(0, 1), glm::vec2(0, -1)})
-        ground = std::max(ground, ground_height(*terrain, xy + f.radius * d));
+        ground = std::max(ground, terrain_height(*terrain, xy + f.radius * d));
     }
     const float heading = a + (f.speed >= 0 ? 0.5f : -0.5f) * std::numbers::pi_v<float>;
     glm::mat4 m = glm::translate(glm::mat4(1.0f), glm::vec3(xy, ground + f.hover));
@@ -368,7 +339,7 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
       for (int i = 0; i < config.grid; ++i) {
         const glm::vec2 xy = glm::vec2(terrain->origin) +
                              extent * glm::vec2(i, j) / static_cast<float>(config.grid - 1);
-        positions.emplace_back(xy, ground_height(*terrain, xy) + h);
+        positions.emplace_back(xy, terrain_height(*terrain, xy) + h);
       }
   probe_cloud::ProbeCloudBuildSettings build;
   build.bands = kBands;
@@ -436,7 +407,7 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
     m.radius = 0;
     for (const glm::vec3& p : mesh->positions)
       m.radius = std::max(m.radius, glm::length(p - m.centre));
-    m.normals = std::make_shared<const std::vector<glm::vec3>>(vertex_normals(*mesh));
+    m.normals = std::make_shared<const std::vector<glm::vec3>>(data::vertex_normals(*mesh));
     m.mesh = std::move(mesh);
     models.push_back(std::move(m));
   }
