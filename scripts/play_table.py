@@ -4,7 +4,7 @@
     ./penumbra bench play                 # -> build/bench/play.json, play_terrain.json
     python3 scripts/play_table.py [build/bench/play.json] [--write README.md docs/play.md]
 
-play_terrain.json (beside the record: the same main job with --boulders 0, run right after) adds
+play_terrain.json (beside the record: the same main job with --boulders 0 --probe-objects 0, run right after) adds
 the terrain demo alone, so the tables show what the blocker system's boulders cost.
 
 Prints the tables (markdown); with --write, replaces the text between the markers
@@ -45,11 +45,11 @@ def tables(r, alone=None):
     if alone:
         a = alone["frame"]
         lines += [
-            f"| the terrain demo alone (`--boulders 0`, run right after; load average "
+            f"| the terrain demo alone (`--boulders 0 --probe-objects 0`, run right after; load average "
             f"{alone['machine']['load_average_start']:.2f}): frame rate, median / empty frame | "
             f"{a['fps']:.1f} fps, {a['median_ms']:.2f} / {a['empty_frame_ms']:.2f} ms = "
             f"{a['x_empty_frame']:.2f}x | >= 30 fps, <= 4x |",
-            f"| what the boulders cost (blocker system, mesh pass): median frame, simulation | "
+            f"| what the boulders and probe floaters cost (blocker and probe systems, mesh pass): median frame, simulation | "
             f"+{f['median_ms'] - a['median_ms']:.2f} ms, +{f['simulation_ms'] - a['simulation_ms']:.2f} "
             f"ms | - |",
         ]
