@@ -377,18 +377,6 @@ void BM_ShadeBatch(benchmark::State& state) {
   state.counters["squares_mean"] = squares;
 }
 
-// Scalar FMA throughput: 8 independent chains, so latency is hidden (as sh_bench.cpp).
-void BM_FmaThroughput(benchmark::State& state) {
-  float a[8] = {1, 2, 3, 4, 5, 6, 7, 8};
-  const float m = 0.999f, c = 1e-3f;
-  for (auto _ : state) {
-    for (int i = 0; i < 1024; ++i)
-      for (float& x : a) x = std::fma(x, m, c);
-    benchmark::DoNotOptimize(a);
-  }
-  state.SetItemsProcessed(state.iterations() * 8192);
-}
-
 constexpr pb::Timing kCpu{.clock = pb::Timing::Clock::kCpu, .unit = benchmark::kMicrosecond};
 
 template <int N>
@@ -405,7 +393,7 @@ void register_bands() {
 }
 
 void register_benchmarks() {
-  pb::add("BM_FmaThroughput", kCpu, BM_FmaThroughput);
+  pb::add("BM_FmaThroughput", kCpu, pb::BM_FmaThroughput);
   pb::add("BM_View", kCpu, BM_View);
   register_bands<3>();
   register_bands<4>();

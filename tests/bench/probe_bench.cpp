@@ -510,25 +510,13 @@ void BM_Touch(benchmark::State& state, bool sorted) {
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(m.size()));
 }
 
-// Scalar FMA throughput: 8 independent chains, so latency is hidden (as sh_bench.cpp).
-void BM_FmaThroughput(benchmark::State& state) {
-  float a[8] = {1, 2, 3, 4, 5, 6, 7, 8};
-  const float mul = 0.999f, c = 1e-3f;
-  for (auto _ : state) {
-    for (int i = 0; i < 1024; ++i)
-      for (float& x : a) x = std::fma(x, mul, c);
-    benchmark::DoNotOptimize(a);
-  }
-  state.SetItemsProcessed(state.iterations() * 8192);
-}
-
 std::string frame_key(int entities, bool cached) {
   return "BM_Frame/" + std::to_string(entities) + (cached ? "/walk" : "/no_cache");
 }
 
 void register_benchmarks() {
   const pb::Timing cpu{.clock = pb::Timing::Clock::kCpu, .unit = benchmark::kMicrosecond};
-  pb::add("BM_FmaThroughput", cpu, BM_FmaThroughput);
+  pb::add("BM_FmaThroughput", cpu, pb::BM_FmaThroughput);
   for (const char* d : kDistributions)
     for (int n : kSizes) {
       const bool big = n >= 100'000;

@@ -55,7 +55,8 @@ void eval_textbook(const glm::vec3& d, float* out) {
   for (int l = 0; l < N; ++l) {
     for (int m = -l; m <= l; ++m) {
       const int am = std::abs(m);
-      const double k = std::sqrt((2 * l + 1) / (4 * std::numbers::pi) * std::tgamma(l - am + 1) / std::tgamma(l + am + 1));
+      const double k = std::sqrt((2 * l + 1) / (4 * std::numbers::pi) * std::tgamma(l - am + 1) /
+                                 std::tgamma(l + am + 1));
       // std::assoc_legendre has no Condon-Shortley phase, like our basis.
       const double p = std::assoc_legendre(l, am, std::cos(theta));
       double v = k * p;
@@ -110,7 +111,8 @@ void BM_EvalBatch(benchmark::State& state) {
 
 template <int N>
 void BM_Rotate(benchmark::State& state) {
-  const sh::Rotation<N> r(glm::mat3(glm::rotate(glm::mat4(1), 0.7f, glm::normalize(glm::vec3(1, 2, 3)))));
+  const sh::Rotation<N> r(
+      glm::mat3(glm::rotate(glm::mat4(1), 0.7f, glm::normalize(glm::vec3(1, 2, 3)))));
   auto f = coeffs<N>(1);
   for (auto _ : state) {
     f = r.apply(f);
@@ -120,11 +122,13 @@ void BM_Rotate(benchmark::State& state) {
 
 template <int N>
 void BM_RotateDense(benchmark::State& state) {
-  const sh::Rotation<N> r(glm::mat3(glm::rotate(glm::mat4(1), 0.7f, glm::normalize(glm::vec3(1, 2, 3)))));
+  const sh::Rotation<N> r(
+      glm::mat3(glm::rotate(glm::mat4(1), 0.7f, glm::normalize(glm::vec3(1, 2, 3)))));
   std::vector<float> dense(N * N * N * N, 0.0f);  // the same matrix, stored densely
   for (int l = 0; l < N; ++l) {
     for (int m = -l; m <= l; ++m) {
-      for (int n = -l; n <= l; ++n) dense[sh::index(l, m) * N * N + sh::index(l, n)] = r.band(l, m, n);
+      for (int n = -l; n <= l; ++n)
+        dense[sh::index(l, m) * N * N + sh::index(l, n)] = r.band(l, m, n);
     }
   }
   auto f = coeffs<N>(1);
@@ -218,19 +222,6 @@ void BM_ExpNumeric(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(sh::exp_numeric<N>(f));
 }
 
-// Scalar FMA throughput: 8 independent chains, so latency is hidden.
-void BM_FmaThroughput(benchmark::State& state) {
-  float a[8] = {1, 2, 3, 4, 5, 6, 7, 8};
-  const float m = 0.999f, c = 1e-3f;
-  for (auto _ : state) {
-    for (int i = 0; i < 1024; ++i) {
-      for (float& x : a) x = std::fma(x, m, c);
-    }
-    benchmark::DoNotOptimize(a);
-  }
-  state.SetItemsProcessed(state.iterations() * 8192);
-}
-
 // Single-threaded kernels: CPU time, Google Benchmark's default minimum time. Names as
 // BENCHMARK() spells them ("BM_Eval<4>"): the summary looks them up so.
 constexpr pb::Timing kCpu{.clock = pb::Timing::Clock::kCpu};
@@ -257,7 +248,7 @@ void register_benchmarks() {
   register_bands<3>();
   register_bands<4>();
   register_bands<5>();
-  pb::add("BM_FmaThroughput", kCpu, BM_FmaThroughput);
+  pb::add("BM_FmaThroughput", kCpu, pb::BM_FmaThroughput);
 }
 
 template <int N>
@@ -266,16 +257,20 @@ void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {
   const std::string tag = std::to_string(N) + " bands: ";
   auto ns = [&](const std::string& name) { return r.real_ns("BM_" + name + b); };
   auto per_dir = [&](const std::string& name) { return pb::scale(ns(name), 1.0 / kDirs); };
-  s.add_vs_baseline(tag + "eval (ns/direction)", "ns", per_dir("Eval"), per_dir("EvalTextbook"), pb::Goal::none(),
-                    std::nullopt, "baseline: angles + std::assoc_legendre + cos/sin");
-  s.add_vs_baseline(tag + "eval batch SoA", "ns", per_dir("EvalBatch"), per_dir("Eval"), pb::Goal::none(),
-                    std::nullopt, "8-wide vector lanes; baseline: scalar eval per direction (AoS out)");
-  s.add_vs_baseline(tag + "rotate (matrix built)", "ns", ns("Rotate"), ns("RotateDense"), pb::Goal::none(),
+  s.add_vs_baseline(tag + "eval (ns/direction)", "ns", per_dir("Eval"), per_dir("EvalTextbook"),
+                    pb::Goal::none(), std::nullopt,
+                    "baseline: angles + std::assoc_legendre + cos/sin");
+  s.add_vs_baseline(tag + "eval batch SoA", "ns", per_dir("EvalBatch"), per_dir("Eval"),
+                    pb::Goal::none(), std::nullopt,
+                    "8-wide vector lanes; baseline: scalar eval per direction (AoS out)");
+  s.add_vs_baseline(tag + "rotate (matrix built)", "ns", ns("Rotate"), ns("RotateDense"),
+                    pb::Goal::none(),
                     pb::scale(std::optional<double>(N * (4.0 * N * N - 1) / 3), ns_per_fma),
                     "baseline: dense N^2 x N^2; floor: sum (2l+1)^2 FMAs");
-  s.add_vs_baseline(tag + "rotation build (IR)", "ns", ns("RotationBuild"), std::nullopt, pb::Goal::none());
-  s.add_vs_baseline(tag + "rotate about z", "ns", ns("RotateZ"), ns("Rotate"), pb::Goal::none(), std::nullopt,
-                    "baseline: general rotation apply");
+  s.add_vs_baseline(tag + "rotation build (IR)", "ns", ns("RotationBuild"), std::nullopt,
+                    pb::Goal::none());
+  s.add_vs_baseline(tag + "rotate about z", "ns", ns("RotateZ"), ns("Rotate"), pb::Goal::none(),
+                    std::nullopt, "baseline: general rotation apply");
   const double terms = sh::factored_term_count<N>();
   s.add_vs_baseline(tag + "product", "ns", ns("Product"), ns("ProductSparse"),
                     N == 4 ? pb::Goal::ratio_at_least(3.0) : pb::Goal::none(),
@@ -283,9 +278,10 @@ void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {
                     "baseline: sparse Gamma loop (" + std::to_string(sh::gaunt_entry_count<N>()) +
                         " entries); floor: " + std::to_string(static_cast<int>(terms)) + " FMAs");
   s.add_vs_baseline(tag + "square", "ns", ns("Square"), ns("SquareSparse"), pb::Goal::none(),
-                    pb::scale(std::optional<double>(terms), ns_per_fma), "baseline: sparse loop, f = g");
-  s.add_vs_baseline(tag + "exp HYB", "ns", ns("ExpHyb"), ns("ExpNumeric"), pb::Goal::none(), std::nullopt,
-                    "baseline: exp_numeric (quadrature projection)");
+                    pb::scale(std::optional<double>(terms), ns_per_fma),
+                    "baseline: sparse loop, f = g");
+  s.add_vs_baseline(tag + "exp HYB", "ns", ns("ExpHyb"), ns("ExpNumeric"), pb::Goal::none(),
+                    std::nullopt, "baseline: exp_numeric (quadrature projection)");
 }
 
 pb::Summary summarize(const pb::Results& r) {
