@@ -20,6 +20,7 @@
 
 #include <cmath>
 #include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -40,6 +41,20 @@ inline void BM_FmaThroughput(benchmark::State& state) {
     benchmark::DoNotOptimize(a);
   }
   state.SetItemsProcessed(state.iterations() * 8192);
+}
+
+// The floor unit from BM_FmaThroughput's CPU time (ns per FMA; 0 when it did not run), added to
+// the summary as its first row with `note`.
+inline double add_fma_floor_row(const Results& r, Summary& s, const std::string& note) {
+  const auto m = r.get("BM_FmaThroughput");
+  const std::optional<double> fma = m ? std::optional<double>(m->cpu_ns / 8192) : std::nullopt;
+  Row row;
+  row.name = "scalar FMA throughput (floor unit)";
+  row.unit = "ns/FMA";
+  row.value = fma;
+  row.note = note;
+  s.add(row);
+  return fma.value_or(0.0);
 }
 
 struct Timing {

@@ -461,14 +461,8 @@ void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {
 
 pb::Summary summarize(const pb::Results& r, const bb::Outputs& out) {
   pb::Summary s;
-  const auto fma = pb::scale(cpu_ns(r, "BM_FmaThroughput"), 1.0 / 8192);
-  const double ns_per_fma = fma.value_or(0.0);
-  pb::Row row;
-  row.name = "scalar FMA throughput (floor unit)";
-  row.unit = "ns/FMA";
-  row.value = fma;
-  row.note = "8 independent chains; floors = counted operations x this";
-  s.add(row);
+  const double ns_per_fma =
+      pb::add_fma_floor_row(r, s, "8 independent chains; floors = counted operations x this");
   bb::add_row(s, "view_blocker", "ns/pair", pb::scale(cpu_ns(r, "BM_View"), 1.0 / kPairs),
               std::nullopt, pb::Goal::none(), bb::view_flops() * ns_per_fma,
               "plane rule, cap angle, weights");

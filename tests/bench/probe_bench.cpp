@@ -589,14 +589,8 @@ std::string size_text(int n) {
 
 pb::Summary summarize(const pb::Results& r, const Outputs& out) {
   pb::Summary s;
-  const auto fma = pb::scale(cpu_ns(r, "BM_FmaThroughput"), 1.0 / 8192);
-  const double ns_per_fma = fma.value_or(0.0);
-  pb::Row row;
-  row.name = "scalar FMA throughput (floor unit)";
-  row.unit = "ns/FMA";
-  row.value = fma;
-  row.note = "8 independent chains; floors = counted operations x this / threads";
-  s.add(row);
+  const double ns_per_fma = pb::add_fma_floor_row(
+      r, s, "8 independent chains; floors = counted operations x this / threads");
 
   for (const char* d : kDistributions)
     for (int n : kSizes) {
