@@ -125,6 +125,41 @@ TEST(CellWeights, OuterTransformHoldsTheCubic) {
   }
 }
 
+// The outer cell's t is the smallest root t >= 0 of det[p_i + t n_i - p] (curved hulls: the
+// cubic's leading terms do not vanish): the determinant is ~0 at t and keeps f(0)'s sign before.
+TEST(CellWeights, OuterParameterIsTheSmallestRootOfTheCubic) {
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.0f, 3.0f), far(-6.0f, 8.0f);
+  std::vector<glm::vec3> pts(80);
+  for (glm::vec3& q : pts) q = {u(rng), u(rng), u(rng)};
+  const data::ProbeCloud cloud = build_probe_cloud(pts, {});
+  int checked = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const glm::vec3 p(far(rng), far(rng), far(rng));
+    const int c = find_cell(cloud, p, 1e-4f);
+    if (c < 0 || std::uint32_t(c) < cloud.inner_count) continue;
+    const double t = outer_cell_parameter(cloud, std::uint32_t(c), p);
+    ASSERT_GE(t, 0.0);
+    const auto& v = cloud.cells[c].vertices;
+    const auto det = [&](double s) {
+      glm::dvec3 col[3];
+      for (int i = 0; i < 3; ++i)
+        col[i] = glm::dvec3(cloud.positions[v[i]]) + s * glm::dvec3(cloud.hull_normals[v[i]]) -
+                 glm::dvec3(p);
+      return glm::dot(col[0], glm::cross(col[1], col[2]));
+    };
+    double scale = 0;  // the determinant's size near t, for a relative tolerance
+    for (double s : {0.0, t, 2 * t + 1}) scale = std::max(scale, std::abs(det(s)));
+    EXPECT_NEAR(det(t), 0.0, 1e-6 * (1 + scale)) << "cell " << c;
+    for (int k = 0; k < 50; ++k) {  // no earlier sign change
+      const double s = t * k / 50.0;
+      EXPECT_GE(det(s) * det(0.0), -1e-9 * (1 + scale * scale)) << "cell " << c << " s " << s;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
 TEST(CellWeights, ConvexWeights) {
   const auto a = convex_weights({0.5f, 0.75f, -0.25f, 0.0f});
   EXPECT_FLOAT_EQ(a[0] + a[1] + a[2] + a[3], 1.0f);
