@@ -162,6 +162,94 @@ TEST(Scene, OffsetRaysDoNotHitTheirOwnSurface) {
   EXPECT_EQ(hits, 0);
 }
 
+TEST(Scene, RejectsBadAlbedosNamingTheItem) {
+  SceneDesc d;
+  d.spheres = {{{0, 0, 0}, 1, "ok", {1, 1, 1}}, {{0, 0, 5}, 1, "rock", {0.5f, 1.5f, 0}}};
+  expect_invalid(d, "spheres[1] \"rock\"", "albedo (0.5, 1.5, 0) must be finite and in [0, 1]");
+  d.spheres[1].albedo = {-0.1f, 0, 0};
+  expect_invalid(d, "spheres[1]", "albedo");
+  d = {};
+  d.meshes.push_back({test::quad(1, 0), glm::mat4(1.0f), {0, kNaN, 0}});
+  expect_invalid(d, "meshes[0] \"quad\"", "albedo");
+  d = {};
+  d.height_fields.push_back({test::flat_field(4, 4, 1, 0), {0, 0, 0}, {0, 0, kInf}});
+  expect_invalid(d, "height_fields[0] \"flat\"", "albedo");
+  d.height_fields[0].albedo = {0.2f, 0.3f, 0.4f};
+  EXPECT_TRUE(Scene(d).reflects());
+  d.height_fields[0].albedo = {};
+  EXPECT_FALSE(Scene(d).reflects());
+}
+
+// first_hit: distance, the normal of the side hit (facing the ray) and the occluder's albedo.
+TEST(Scene, FirstHitGivesDistanceFacingNormalAndAlbedo) {
+  SceneDesc d;
+  d.spheres = {{{0, 0, 10}, 2, "ball", {0.1f, 0.2f, 0.3f}}, {{20, 0, 0}, 1, "dark", {}}};
+  // A unit quad rotated 90 degrees about +x (normal +z -> -y) and moved to y = 5.
+  glm::mat4 t(1.0f);
+  t[1] = {0, 0, 1, 0};
+  t[2] = {0, -1, 0, 0};
+  t[3] = {0, 5, 0, 1};
+  d.meshes.push_back({test::quad(1, 0), t, {0.5f, 0.5f, 0.5f}});
+  d.height_fields.push_back({test::flat_field(3, 3, 1, 0), {-40, -1, -3}, {1, 0, 0}});
+  const Scene s(d);
+
+  // Sphere from outside: near side, outward normal.
+  const Hit a = s.first_hit({0, 0, 0}, {0, 0, 2}, kInf);  // |dir| = 2: distance in its units
+  ASSERT_TRUE(a);
+  EXPECT_NEAR(a.distance, 4.0f, 1e-5f);
+  EXPECT_NEAR(a.normal.z, -1.0f, 1e-6f);
+  EXPECT_EQ(a.albedo, glm::vec3(0.1f, 0.2f, 0.3f));
+  // Off-axis: the normal is the radial direction at the hit point.
+  const glm::vec3 dir = glm::normalize(glm::vec3(0.1f, 0.05f, 1));
+  const Hit b = s.first_hit({0, 0, 0}, dir, kInf);
+  ASSERT_TRUE(b);
+  const glm::vec3 radial = glm::normalize(b.distance * dir - glm::vec3(0, 0, 10));
+  EXPECT_NEAR(glm::dot(b.normal, radial), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(b.normal), 1.0f, 1e-6f);
+  // From inside: the far side, normal pointing inwards (towards the origin of the ray).
+  const Hit c = s.first_hit({0, 0, 10}, {0, 0, 1}, kInf);
+  ASSERT_TRUE(c);
+  EXPECT_NEAR(c.distance, 2.0f, 1e-5f);
+  EXPECT_NEAR(c.normal.z, -1.0f, 1e-6f);
+  // Black sphere: a hit with zero albedo.
+  const Hit black = s.first_hit({0, 0, 0}, {1, 0, 0}, kInf);
+  ASSERT_TRUE(black);
+  EXPECT_NEAR(black.distance, 19.0f, 1e-4f);
+  EXPECT_EQ(black.albedo, glm::vec3(0));
+
+  // Transformed quad from both sides: the normal of the transformed triangle, facing the ray.
+  const Hit front = s.first_hit({0.2f, 0, 0.3f}, {0, 1, 0}, kInf);
+  ASSERT_TRUE(front);
+  EXPECT_NEAR(front.distance, 5.0f, 1e-5f);
+  EXPECT_NEAR(front.normal.y, -1.0f, 1e-6f);
+  EXPECT_EQ(front.albedo, glm::vec3(0.5f));
+  const Hit back = s.first_hit({0.2f, 9, 0.3f}, {0, -1, 0}, kInf);
+  ASSERT_TRUE(back);
+  EXPECT_NEAR(back.distance, 4.0f, 1e-5f);
+  EXPECT_NEAR(back.normal.y, 1.0f, 1e-6f);
+
+  // Height field from above and below, oblique ray.
+  const glm::vec3 down = glm::normalize(glm::vec3(0.3f, 0, -1));
+  const Hit top = s.first_hit({-39.5f, 0, 0}, down, kInf);
+  ASSERT_TRUE(top);
+  EXPECT_NEAR(top.distance, 3 / -down.z, 1e-5f);
+  EXPECT_NEAR(top.normal.z, 1.0f, 1e-6f);
+  EXPECT_EQ(top.albedo, glm::vec3(1, 0, 0));
+  const Hit under = s.first_hit({-38.5f, 0, -5}, -down, kInf);
+  ASSERT_TRUE(under);
+  EXPECT_NEAR(under.distance, 2 / -down.z, 1e-5f);
+  EXPECT_NEAR(under.normal.z, -1.0f, 1e-6f);
+
+  // Misses and t_max: a default Hit.
+  const Hit miss = s.first_hit({0, 0, 0}, {0, 0, -1}, kInf);
+  EXPECT_FALSE(miss);
+  EXPECT_EQ(miss.distance, kInf);
+  EXPECT_EQ(miss.normal, glm::vec3(0));
+  EXPECT_FALSE(s.first_hit({0, 0, 0}, {0, 0, 1}, 7.9f));
+  EXPECT_EQ(s.hit_distance({0, 0, 0}, {0, 0, 1}, kInf),
+            s.first_hit({0, 0, 0}, {0, 0, 1}, kInf).distance);
+}
+
 TEST(Scene, EmptySceneHitsNothingAndMoves) {
   Scene s(SceneDesc{});
   EXPECT_FALSE(s.occluded({0, 0, 0}, {0, 0, 1}, kInf));

@@ -10,6 +10,11 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include <glm/ext/vector_double3.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 namespace penumbra::reference {
 namespace {
@@ -38,6 +43,14 @@ std::string num(float v) {
 void check_radius(const std::string& what, float r) {
   if (!std::isfinite(r) || !(r > 0)) fail(what, "radius " + num(r) + " must be finite and > 0");
 }
+void check_albedo(const std::string& what, const glm::vec3& a) {
+  for (int c = 0; c < 3; ++c) {
+    if (!(a[c] >= 0 && a[c] <= 1)) fail(what, "albedo " + str(a) + " must be finite and in [0, 1]");
+  }
+}
+bool black(const glm::vec3& a) {
+  return a.x <= 0 && a.y <= 0 && a.z <= 0;
+}
 void validate(const SceneDesc& d) {
   for (std::size_t i = 0; i < d.height_fields.size(); ++i) {
     const auto& h = d.height_fields[i];
@@ -55,6 +68,7 @@ void validate(const SceneDesc& d) {
       fail(what, "cell_size " + num(h.field.cell_size) + " must be finite and > 0");
     }
     if (!finite(h.origin)) fail(what, "origin " + str(h.origin) + " is not finite");
+    check_albedo(what, h.albedo);
     for (std::size_t k = 0; k < n; ++k) {
       if (!std::isfinite(h.field.heights[k])) {
         fail(what, "height at (" + std::to_string(k % h.field.width) + ", " +
@@ -70,6 +84,7 @@ void validate(const SceneDesc& d) {
         if (!std::isfinite(m.transform[c][r])) fail(what, "transform is not finite");
       }
     }
+    check_albedo(what, m.albedo);
     for (std::size_t k = 0; k < m.mesh.positions.size(); ++k) {
       if (!finite(m.mesh.positions[k]))
         fail(what, "position " + std::to_string(k) + " is not finite");
@@ -90,6 +105,7 @@ void validate(const SceneDesc& d) {
     const std::string what = label("spheres", i, s.name);
     if (!finite(s.center)) fail(what, "center " + str(s.center) + " is not finite");
     check_radius(what, s.radius);
+    check_albedo(what, s.albedo);
   }
   for (std::size_t i = 0; i < d.lights.size(); ++i) {
     const auto& l = d.lights[i];
@@ -114,6 +130,12 @@ void on_embree_error(void*, RTCError code, const char* message) {
 struct Scene::Bvh {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
+  // For Scene::first_hit: the albedo of each geometry (by Embree geomID), and the spheres'
+  // centres and albedos (one sphere geometry, by primID).
+  std::vector<glm::vec3> albedo;
+  unsigned sphere_geom = RTC_INVALID_GEOMETRY_ID;
+  std::vector<glm::vec4> spheres;  // centre, radius
+  std::vector<glm::vec3> sphere_albedo;
   ~Bvh() {
     if (scene) rtcReleaseScene(scene);
     if (device) rtcReleaseDevice(device);
@@ -136,11 +158,15 @@ struct Scene::Bvh {
     check("allocating a triangle buffer");
     return g;
   }
-  void attach(RTCGeometry g) {
+  // Commits and attaches g; returns its geomID (ids are dense, from 0, in attach order).
+  unsigned attach(RTCGeometry g, const glm::vec3& geom_albedo) {
     rtcCommitGeometry(g);
-    rtcAttachGeometry(scene, g);
+    const unsigned id = rtcAttachGeometry(scene, g);
     rtcReleaseGeometry(g);
     check("committing a geometry");
+    if (albedo.size() <= id) albedo.resize(id + 1, glm::vec3(0.0f));
+    albedo[id] = geom_albedo;
+    return id;
   }
 };
 
@@ -190,7 +216,8 @@ Scene::Scene(const SceneDesc& desc) : bvh_(std::make_unique<Bvh>()) {
         t += 6;
       }
     }
-    bvh_->attach(g);
+    bvh_->attach(g, h.albedo);
+    reflects_ = reflects_ || !black(h.albedo);
     triangles_ += tris;
   }
   for (const MeshInstance& m : desc.meshes) {
@@ -209,7 +236,8 @@ Scene::Scene(const SceneDesc& desc) : bvh_(std::make_unique<Bvh>()) {
       grow(p.x, p.y, p.z);
     }
     std::copy(m.mesh.indices.begin(), m.mesh.indices.end(), idx);
-    bvh_->attach(g);
+    bvh_->attach(g, m.albedo);
+    reflects_ = reflects_ || !black(m.albedo);
     triangles_ += tris;
   }
   if (!desc.spheres.empty()) {
@@ -223,8 +251,11 @@ Scene::Scene(const SceneDesc& desc) : bvh_(std::make_unique<Bvh>()) {
       v[4 * k + 3] = s.radius;
       grow(std::fabs(s.center.x) + s.radius, std::fabs(s.center.y) + s.radius,
            std::fabs(s.center.z) + s.radius);
+      bvh_->spheres.emplace_back(s.center, s.radius);
+      bvh_->sphere_albedo.push_back(s.albedo);
+      reflects_ = reflects_ || !black(s.albedo);
     }
-    bvh_->attach(g);
+    bvh_->sphere_geom = bvh_->attach(g, glm::vec3(0.0f));
   }
   rtcCommitScene(bvh_->scene);
   bvh_->check("building the BVH");
@@ -250,7 +281,8 @@ bool Scene::occluded(const glm::vec3& origin, const glm::vec3& dir, float t_max)
   return ray.tfar < 0;  // Embree sets tfar to -inf on a hit
 }
 
-float Scene::hit_distance(const glm::vec3& origin, const glm::vec3& dir, float t_max) const {
+namespace {
+RTCRayHit intersect(RTCScene scene, const glm::vec3& origin, const glm::vec3& dir, float t_max) {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
@@ -264,9 +296,40 @@ float Scene::hit_distance(const glm::vec3& origin, const glm::vec3& dir, float t
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(bvh_->scene, &context, &rh);
+  rtcIntersect1(scene, &context, &rh);
+  return rh;
+}
+}  // namespace
+
+float Scene::hit_distance(const glm::vec3& origin, const glm::vec3& dir, float t_max) const {
+  const RTCRayHit rh = intersect(bvh_->scene, origin, dir, t_max);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return std::numeric_limits<float>::infinity();
   return rh.ray.tfar;
+}
+
+Hit Scene::first_hit(const glm::vec3& origin, const glm::vec3& dir, float t_max) const {
+  const RTCRayHit rh = intersect(bvh_->scene, origin, dir, t_max);
+  Hit out;
+  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+  out.distance = rh.ray.tfar;
+  glm::dvec3 n;
+  if (rh.hit.geomID == bvh_->sphere_geom) {
+    // From the centre, in double (Embree's Ng for spheres is the same direction, in float).
+    const glm::vec4& c = bvh_->spheres[rh.hit.primID];
+    const glm::dvec3 p = glm::dvec3(origin) + double(out.distance) * glm::dvec3(dir);
+    n = p - glm::dvec3(c.x, c.y, c.z);
+    out.albedo = bvh_->sphere_albedo[rh.hit.primID];
+  } else {
+    n = glm::dvec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);  // the world-space face normal
+    out.albedo = bvh_->albedo[rh.hit.geomID];
+  }
+  const double len = glm::length(n);
+  // A degenerate normal (a hit at a sphere's centre cannot happen; a zero-area triangle is
+  // never hit by Embree) falls back to facing the ray.
+  n = len > 0 ? n / len : -glm::normalize(glm::dvec3(dir));
+  if (glm::dot(n, glm::dvec3(dir)) > 0) n = -n;
+  out.normal = glm::vec3(n);
+  return out;
 }
 
 }  // namespace penumbra::reference

@@ -13,21 +13,24 @@
 //  - spheres are exact analytic spheres (Embree sphere primitives). A ray that starts inside a
 //    sphere hits its far side, so a receiver inside an occluder sphere is fully occluded: all
 //    its estimates are exactly zero (documented, finite result).
-//  - every occluder is two-sided and opaque.
+//  - every occluder is two-sided and opaque, and may carry a Lambertian `albedo` (linear RGB,
+//    each channel in [0, 1], the same on both sides; default black: reflects nothing). Only
+//    indirect_irradiance (estimators.h) reads it; occlusion ignores it.
 //  - lights are emitters only: they occlude neither the environment nor one another (nor are
 //    they hit by Scene::occluded).
 //
 // Errors: the constructor validates everything and throws std::invalid_argument naming the item
 // (e.g. "spheres[2] \"rock\": radius -1 must be finite and > 0"): non-finite or non-positive
 // radii, non-finite centres / origins / heights / positions / transforms, negative or non-finite
-// light radiance, mismatched array sizes, mesh indices out of range or not a multiple of 3, a
-// height field smaller than 2 x 2 or with cell_size <= 0, and the environment map's own checks
-// (environment.h). std::runtime_error if Embree itself fails.
+// light radiance, an albedo outside [0, 1] or not finite, mismatched array sizes, mesh indices out
+// of range or not a multiple of 3, a height field smaller than 2 x 2 or with cell_size <= 0, and
+// the environment map's own checks (environment.h). std::runtime_error if Embree itself fails.
 // Threading: construction builds the BVH (Embree may use TBB worker threads); afterwards a Scene
 // is immutable and every const member is safe to call from any number of threads.
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -52,17 +55,31 @@ struct EnvironmentLight {
 struct HeightFieldInstance {
   data::HeightField field;
   glm::vec3 origin{0.0f};  // world position of sample (0, 0) at height 0
+  glm::vec3 albedo{0.0f};  // Lambertian, linear RGB in [0, 1]; black reflects nothing
 };
 
 struct MeshInstance {
   data::MeshData mesh;
   glm::mat4 transform{1.0f};  // object to world
+  glm::vec3 albedo{0.0f};     // as HeightFieldInstance::albedo
 };
 
 struct SphereOccluder {
   glm::vec3 center{0.0f};
   float radius = 1;
-  std::string name;  // for messages; may be empty
+  std::string name;        // for messages; may be empty
+  glm::vec3 albedo{0.0f};  // as HeightFieldInstance::albedo
+};
+
+// The first occluder along a ray (Scene::first_hit).
+struct Hit {
+  float distance = std::numeric_limits<float>::infinity();  // in units of |dir|; inf: none
+  // Unit geometric normal of the side that was hit (dot(normal, dir) <= 0): a sphere's radial
+  // direction from its centre, a triangle's face normal (of the transformed triangle), flipped
+  // towards the ray's origin. Zero when nothing was hit.
+  glm::vec3 normal{0.0f};
+  glm::vec3 albedo{0.0f};  // of the occluder hit; black when nothing was hit
+  explicit operator bool() const { return distance < std::numeric_limits<float>::infinity(); }
 };
 
 // A sphere of uniform radiance: seen from outside, every direction that meets it carries
@@ -97,6 +114,9 @@ class Scene {
   bool occluded(const glm::vec3& origin, const glm::vec3& dir, float t_max) const;
   // Distance (in units of |dir|) to the first hit in [0, t_max], or +infinity.
   float hit_distance(const glm::vec3& origin, const glm::vec3& dir, float t_max) const;
+  // The first hit in [0, t_max]: its distance, normal and albedo (see Hit); a default Hit
+  // (distance +infinity) when nothing is hit. The same traversal as hit_distance.
+  Hit first_hit(const glm::vec3& origin, const glm::vec3& dir, float t_max) const;
 
   const EnvironmentSampler* environment() const { return environment_.get(); }
   std::span<const SphereLight> lights() const { return lights_; }
@@ -104,6 +124,8 @@ class Scene {
   // that ray offsets are relative to (estimators.h).
   float extent() const { return extent_; }
   std::size_t triangle_count() const { return triangles_; }
+  // Does any occluder have a nonzero albedo? (If not, indirect_irradiance is exactly zero.)
+  bool reflects() const { return reflects_; }
 
  private:
   struct Bvh;
@@ -112,6 +134,7 @@ class Scene {
   std::vector<SphereLight> lights_;
   float extent_ = 0;
   std::size_t triangles_ = 0;
+  bool reflects_ = false;
 };
 
 }  // namespace penumbra::reference
