@@ -18,7 +18,19 @@
 namespace penumbra::reference::detail {
 
 // Salts keep the random streams of different estimators apart for one (seed, receiver).
-enum Salt : std::uint64_t { kEnvironmentSalt = 1, kLightSalt = 2, kVisibilitySalt = 3 };
+enum Salt : std::uint64_t {
+  kEnvironmentSalt = 1,
+  kLightSalt = 2,
+  kVisibilitySalt = 3,
+  kBounceSalt = 4
+};
+
+// MIS weight of the strategy with density `p` against the other one's `q`, equal sample counts
+// (Veach 1997, sec. 9.2.2-9.2.3).
+inline double mis_weight(MisHeuristic h, double p, double q) {
+  if (h == MisHeuristic::kBalance) return p / (p + q);
+  return p * p / (p * p + q * q);
+}
 
 inline bool finite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);

@@ -14,11 +14,7 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// MIS weight of the strategy with density `p` against the other one's `q` (equal counts).
-double mis_weight(MisHeuristic h, double p, double q) {
-  if (h == MisHeuristic::kBalance) return p / (p + q);
-  return p * p / (p * p + q * q);
-}
+using detail::mis_weight;
 
 // A sampled direction that may contribute `value` (radiance x MIS weight x cos / pdf) to the
 // half-pair `slot` (2 h + k) if its shadow ray escapes. Cosine samples first record only their

@@ -11,6 +11,18 @@
 //  - visibility_sh<N>: V_i = int V(p, w) y_i(w) W(w) dw for the N-band basis of
 //    penumbra/sh/basis.h, with W = 1 (whole sphere), [n.w > 0] (hemisphere) or max(0, n.w)
 //    (cosine: the diffuse transfer vector, sum_i L_i T_i = irradiance). Lights do not occlude.
+//  - indirect_irradiance: one diffuse bounce off the occluders' albedo (scene.h),
+//    E_ind(p, n) = int L_1(x(p, w)) max(0, n.w) dw with x(p, w) the first occluder hit along w
+//    and L_1(x) = albedo(x) / pi * E_direct(x, n_x), E_direct the environment + spherical-light
+//    irradiance at x (what the two estimators above estimate there, with the scene's
+//    visibility; n_x the normal of the side hit). Directions that leave the scene add nothing
+//    (that is the direct term). Stratified cosine-weighted directions at p; at each hit
+//    BounceOptions::bounce_samples direct samples, environment by MIS (as above) and each
+//    light's cone. Unbiased: each direction's contribution albedo(x) x (unbiased estimate of
+//    E_direct(x)) has expectation pi L_1(x) = L_1 cos / pdf. Total irradiance (direct + one
+//    bounce) = combine(combine(environment, light), indirect): the three use separate streams.
+//    Cost per receiver: `samples` first-hit rays, plus at each hit of a reflective occluder
+//    about bounce_samples environment shadow rays and bounce_samples per light.
 //
 // V(p, w) is 1 when the ray from p towards w leaves the scene's occluders (scene.h) unhit.
 // A receiver inside an occluder sphere sees nothing: every estimate is 0 there.
@@ -39,8 +51,9 @@
 // results are bit-identical for any thread count and any scheduling.
 // Threading: the batch functions run tbb::parallel_for in the caller's task arena (wrap them in
 // a tbb::task_arena to bound the threads) and may be called concurrently.
-// Errors: std::invalid_argument for samples < 1, a non-finite position, a zero or non-finite
-// normal (naming the receiver index), or a negative / non-finite albedo or ray offset.
+// Errors: std::invalid_argument for samples < 1 (or bounce_samples < 1), a non-finite position, a
+// zero or non-finite normal (naming the receiver index), or a negative / non-finite albedo or ray
+// offset.
 #pragma once
 
 #include <cstdint>
@@ -105,6 +118,17 @@ struct VisibilityOptions : SamplingOptions {
   VisibilityDomain domain = VisibilityDomain::kSphere;
 };
 
+struct BounceOptions : SamplingOptions {
+  // `samples`: cosine-weighted first-hit directions at the receiver, rounded down to 2 x a grid
+  // of strata (RgbEstimate::samples says what was used; RgbEstimate::rays counts every ray).
+  // At each hit of a reflective occluder, E_direct is estimated with bounce_samples directions
+  // for the environment (bounce_samples / 2 per MIS strategy, at least 1 each) and
+  // bounce_samples cone directions per light, each set stratified over a grid rounded down as
+  // above. More per hit lowers the variance of each contribution, not its mean.
+  int bounce_samples = 4;
+  MisHeuristic heuristic = MisHeuristic::kPower;  // of the environment's MIS at the hits
+};
+
 // Batches: one result per receiver, in order. With no environment map every result is zero.
 std::vector<RgbEstimate> environment_irradiance(const Scene& scene,
                                                 std::span<const Receiver> receivers,
@@ -114,9 +138,14 @@ std::vector<RgbEstimate> light_irradiance(const Scene& scene, std::span<const Re
 template <int N>
 std::vector<ShEstimate<N>> visibility_sh(const Scene& scene, std::span<const Receiver> receivers,
                                          const VisibilityOptions& options = {});
+// One diffuse bounce (see above). Zero (no rays) when no occluder has a nonzero albedo or
+// nothing emits.
+std::vector<RgbEstimate> indirect_irradiance(const Scene& scene,
+                                             std::span<const Receiver> receivers,
+                                             const BounceOptions& options = {});
 
-// Sum of two independent estimates (e.g. environment + lights): means add, variances add; dof is
-// the smaller nonzero one (conservative).
+// Sum of two independent estimates (e.g. environment + lights, then + indirect): means add,
+// variances add; dof is the smaller nonzero one (conservative).
 RgbEstimate combine(const RgbEstimate& a, const RgbEstimate& b);
 
 // One receiver per sample of a placed height field: positions as in scene.h, normals from
