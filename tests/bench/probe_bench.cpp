@@ -268,7 +268,7 @@ const pc::ProbeTetWalk& walk_cloud() {
 struct Movers {
   std::vector<glm::vec3> p, v;
   std::vector<std::int32_t> cells;
-  std::vector<pc::ProbeSh> out;
+  std::vector<sh::CoeffsRgb<kBands>> out;  // the cloud's bands, as ProbeLighting holds
   glm::vec3 lo, hi;
 
   Movers(int n, glm::vec3 lo_, glm::vec3 hi_, std::uint32_t seed)
@@ -302,7 +302,7 @@ std::size_t walk_frame(const pc::ProbeTetWalk& walk, Movers& m, tbb::task_arena&
   std::atomic<std::size_t> fallbacks{0};
   const std::span<const glm::vec3> points(m.p);
   const std::span<std::int32_t> cells(m.cells);
-  const std::span<pc::ProbeSh> out(m.out);
+  const std::span<sh::CoeffsRgb<kBands>> out(m.out);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, m.size(), kBlock),
                       [&](const tbb::blocked_range<std::size_t>& r) {

@@ -74,7 +74,9 @@ void expect_matches_direct(Scene& s, const std::vector<glm::vec3>& positions) {
     ASSERT_NE(l, nullptr);
     ASSERT_TRUE(l->valid);
     const ProbeWalkResult r = s.walk().locate(positions[i], -1);
-    ASSERT_LT(max_abs_diff(l->sample, s.walk().interpolate(r)), 2e-4f) << "entity " << i;
+    sh::CoeffsRgb<ProbeLighting::kBands> direct;
+    s.walk().interpolate(r, direct);
+    ASSERT_LT(max_abs_diff(l->irradiance, direct), 2e-4f) << "entity " << i;
     EXPECT_GE(s.world.get<ProbeAnchor>(s.entities[i])->cell, 0);
   }
 }
@@ -178,16 +180,31 @@ TEST(ProbeSystems, SmoothingStartsFromTheFirstSample) {
   s.run();
   const ProbeLighting& l = *s.world.get<ProbeLighting>(s.entities[0]);
   EXPECT_NEAR(l.irradiance[0][0], 2.0f, 1e-5f);  // the first sample, not black
-  EXPECT_EQ(max_abs_diff(l.irradiance, l.sample), 0.0f);
+  const auto sample_at = [&](const glm::vec3& p) {
+    sh::CoeffsRgb<ProbeLighting::kBands> out;
+    s.walk().interpolate(s.walk().locate(p, -1), out);
+    return out;
+  };
+  EXPECT_EQ(max_abs_diff(l.irradiance, sample_at({1, 3, 3})), 0.0f);
   s.move({{5, 3, 3}});
   s.run();
   const ProbeLighting& m = *s.world.get<ProbeLighting>(s.entities[0]);
-  EXPECT_NEAR(m.sample[0][0], 6.0f, 1e-5f);
+  EXPECT_NEAR(sample_at({5, 3, 3})[0][0], 6.0f, 1e-5f);
   const float alpha = smoothing_alpha(0.1f, 0.5f);
   EXPECT_NEAR(alpha, 1.0f - std::exp(-0.2f), 1e-6f);
   EXPECT_NEAR(m.irradiance[0][0], 2.0f + 4.0f * alpha, 1e-5f);
+  // Not moving: the walk is skipped, the smoothing goes on towards the same sample (rebuilt
+  // from the cached cell: the unsmoothed sample is not stored).
+  s.run();
+  EXPECT_EQ(s.report().unchanged, 1u);
+  EXPECT_EQ(s.report().entities, 0u);
+  EXPECT_NEAR(s.world.get<ProbeLighting>(s.entities[0])->irradiance[0][0],
+              2.0f + 4.0f * (1.0f - (1.0f - alpha) * (1.0f - alpha)), 1e-5f);
   for (int i = 0; i < 60; ++i) s.run();
   EXPECT_NEAR(s.world.get<ProbeLighting>(s.entities[0])->irradiance[0][0], 6.0f, 1e-3f);
+  EXPECT_LT(
+      max_abs_diff(s.world.get<ProbeLighting>(s.entities[0])->irradiance, sample_at({5, 3, 3})),
+      1e-3f);
   EXPECT_EQ(smoothing_alpha(0.1f, 0.0f), 1.0f);
 }
 

@@ -334,6 +334,70 @@ TEST(ProbeTetWalk, BatchEqualsOneByOne) {
   EXPECT_EQ(walk.locate_batch(queries, cells, out), 0u);  // from the found cells: no fallback
   std::vector<ProbeSh> short_out(3);
   EXPECT_THROW(walk.locate_batch(queries, cells, short_out), std::invalid_argument);
+  // At 3 and 2 bands: the same cells, the same coefficients, bit for bit.
+  std::vector<std::int32_t> cells3(queries.size(), -1), cells2(queries.size(), -1);
+  std::vector<sh::CoeffsRgb<3>> out3(queries.size());
+  std::vector<sh::CoeffsRgb<2>> out2(queries.size());
+  EXPECT_EQ(walk.locate_batch(queries, cells3, out3), queries.size());
+  EXPECT_EQ(walk.locate_batch(queries, cells2, out2), queries.size());
+  EXPECT_EQ(cells3, cells);
+  EXPECT_EQ(cells2, cells);
+  for (std::size_t i = 0; i < queries.size(); ++i)
+    for (std::size_t ch = 0; ch < 3; ++ch) {
+      for (std::size_t k = 0; k < 9; ++k) ASSERT_EQ(out3[i][ch][k], out[i][ch][k]);
+      for (std::size_t k = 0; k < 4; ++k) ASSERT_EQ(out2[i][ch][k], out[i][ch][k]);
+    }
+}
+
+// interpolate at fewer or more bands than the cloud's: the same coefficients as at 4 bands where
+// both have them, zero past the cloud's.
+TEST(ProbeTetWalk, InterpolationAtOtherBandsKeepsTheCommonCoefficients) {
+  const auto points = test::random_points(200, 10.0f, 26);
+  const auto queries = test::random_points(100, 12.0f, 27);
+  for (int bands = 2; bands <= 4; ++bands) {
+    const ProbeTetWalk walk(make_cloud(points, test::random_sh(points.size(), bands, 28), bands));
+    for (const glm::vec3& q : queries) {
+      const ProbeWalkResult r = walk.locate(q, -1);
+      const ProbeSh full = walk.interpolate(r);
+      ProbeSh four;
+      sh::CoeffsRgb<3> three;
+      sh::CoeffsRgb<2> two;
+      walk.interpolate(r, four);
+      walk.interpolate(r, three);
+      walk.interpolate(r, two);
+      const std::size_t n = static_cast<std::size_t>(bands * bands);
+      for (std::size_t ch = 0; ch < 3; ++ch) {
+        for (std::size_t k = 0; k < 16; ++k) {
+          ASSERT_EQ(four[ch][k], full[ch][k]);
+          if (k >= n) {
+            ASSERT_EQ(full[ch][k], 0.0f);
+          }
+        }
+        for (std::size_t k = 0; k < 9; ++k) ASSERT_EQ(three[ch][k], full[ch][k]) << bands;
+        for (std::size_t k = 0; k < 4; ++k) ASSERT_EQ(two[ch][k], full[ch][k]) << bands;
+      }
+    }
+  }
+}
+
+// at(cell, p) rebuilds what locate(p) returned when it found cell (inside, outside the hull, on
+// probes, after the fallback; a cloud without cells).
+TEST(ProbeTetWalk, AtRebuildsTheLocateResult) {
+  const auto points = test::random_points(300, 10.0f, 29);
+  const ProbeTetWalk walk(make_cloud(points, test::random_sh(points.size(), 3, 30)));
+  auto queries = test::random_points(500, 13.0f, 31);
+  queries.insert(queries.end(), points.begin(), points.begin() + 20);
+  for (const glm::vec3& q : queries) {
+    const ProbeWalkResult r = walk.locate(q, -1);
+    const ProbeWalkResult a = walk.at(r.cell, q);
+    ASSERT_EQ(a.cell, r.cell);
+    ASSERT_EQ(a.probes, r.probes);
+    ASSERT_EQ(a.weights, r.weights);
+  }
+  const ProbeTetWalk few(make_cloud({{0, 0, 0}, {5, 0, 0}}, test::random_sh(2, 3, 32)));
+  const ProbeWalkResult r = few.locate({4, 1, 0}, -1);
+  EXPECT_EQ(few.at(r.cell, {4, 1, 0}).probes, r.probes);
+  EXPECT_EQ(few.at(r.cell, {4, 1, 0}).weights, r.weights);
 }
 
 // 10 km from the origin at 1 m spacing (godotengine/godot #82642: a float epsilon broke 100 m

@@ -100,7 +100,9 @@ inline ProbeSh interpolate_cell(const data::ProbeCloud& cloud, std::int32_t cell
   return interpolate_probe_sh(cloud, c.vertices, w);
 }
 
-inline float max_abs_diff(const ProbeSh& a, const ProbeSh& b) {
+template <std::size_t kN>  // sh::CoeffsRgb of any bands (ProbeSh: 4, ProbeLighting: 3)
+float max_abs_diff(const std::array<std::array<float, kN>, 3>& a,
+                   const std::array<std::array<float, kN>, 3>& b) {
   float d = 0;
   for (std::size_t ch = 0; ch < 3; ++ch)
     for (std::size_t i = 0; i < a[ch].size(); ++i) d = std::max(d, std::fabs(a[ch][i] - b[ch][i]));

@@ -158,21 +158,4 @@ std::array<float, 4> cell_weights(const data::ProbeCloud& cloud, std::uint32_t c
   return {float(w[0] / sum), float(w[1] / sum), float(w[2] / sum), 0.0f};
 }
 
-std::array<float, 4> convex_weights(const std::array<float, 4>& w) {
-  std::array<float, 4> out{};
-  float sum = 0;
-  for (std::size_t i = 0; i < 4; ++i) {
-    out[i] = std::max(w[i], 0.0f);
-    sum += out[i];
-  }
-  if (sum > 0) {
-    for (float& v : out) v /= sum;
-    return out;
-  }
-  const auto best = static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin());
-  out = {};
-  out[best] = 1.0f;
-  return out;
-}
-
 }  // namespace penumbra::probe_cloud

@@ -22,7 +22,7 @@ using components::ProbeCloudResource;
 using components::ProbeLighting;
 using components::Transform;
 
-static_assert(ProbeLighting::kBands == kProbeShBands);
+using LightingSh = sh::CoeffsRgb<ProbeLighting::kBands>;
 constexpr std::size_t kMaxErrors = 20;  // entities named per frame in the report
 
 std::string entity_name(ecs::Entity e) {
@@ -62,10 +62,24 @@ void prepare(jobs::SystemContext& ctx) {
   }
 }
 
-void smooth_towards(ProbeLighting& l, float alpha) {
+// irradiance += (sample - irradiance) * alpha: this frame's interpolation blended straight in.
+void smooth_towards(ProbeLighting& l, const LightingSh& sample, float alpha) {
   for (std::size_t ch = 0; ch < 3; ++ch)
-    for (std::size_t k = 0; k < l.sample[ch].size(); ++k)
-      l.irradiance[ch][k] += (l.sample[ch][k] - l.irradiance[ch][k]) * alpha;
+    for (std::size_t k = 0; k < sample[ch].size(); ++k)
+      l.irradiance[ch][k] += (sample[ch][k] - l.irradiance[ch][k]) * alpha;
+}
+
+// This frame's interpolation for r into l: as it is for the first sample (never smoothed up
+// from black) or without smoothing, else blended in.
+void publish(const ProbeTetWalk& walk, const ProbeWalkResult& r, ProbeLighting& l, float alpha) {
+  if (!l.valid || alpha >= 1.0f) {
+    walk.interpolate(r, l.irradiance);
+  } else {
+    LightingSh sample;
+    walk.interpolate(r, sample);
+    smooth_towards(l, sample, alpha);
+  }
+  l.valid = true;
 }
 
 // Per-chunk partial report, merged in chunk order by finish.
@@ -110,9 +124,10 @@ void walk_chunk(jobs::SystemContext& ctx,
     ProbeLighting& l = lighting[i];
     const bool cached = a.generation == state.generation;
     if (cached && l.valid && a.point == p) {
-      // Not moved since its last walk, same cloud: the same sample; only the smoothing moves.
+      // Not moved since its last walk, same cloud: the same sample; only the smoothing moves,
+      // towards that sample rebuilt from the cached cell (ProbeTetWalk::at: no walk).
       ++out.unchanged;
-      if (alpha < 1.0f) smooth_towards(l, alpha);
+      if (alpha < 1.0f) publish(walk, walk.at(a.cell, p), l, alpha);
       continue;
     }
     const ProbeWalkResult r = walk.locate(p, cached ? a.cell : kNoCell);
@@ -121,13 +136,7 @@ void walk_chunk(jobs::SystemContext& ctx,
     a.point = p;
     a.steps = r.steps;
     a.fallback = r.fallback;
-    l.sample = walk.interpolate(r);
-    if (!l.valid || alpha >= 1.0f) {
-      l.irradiance = l.sample;  // the first sample as it is: never smoothed up from black
-    } else {
-      smooth_towards(l, alpha);
-    }
-    l.valid = true;
+    publish(walk, r, l, alpha);
     ++out.entities;
     out.fallbacks += r.fallback ? 1 : 0;
     out.steps += static_cast<std::size_t>(r.steps);

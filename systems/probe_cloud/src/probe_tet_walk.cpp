@@ -308,7 +308,7 @@ ProbeWalkResult ProbeTetWalk::brute_force(const glm::vec3& p) const {
   float best_min = -std::numeric_limits<float>::infinity();
   std::array<float, 4> best_w{};
   for (std::size_t i = 0; i < c.cells.size(); ++i) {
-    const std::array<float, 4> w = cell_weights(c, static_cast<std::uint32_t>(i), p);
+    const std::array<float, 4> w = weights_at(c, static_cast<std::int32_t>(i), p);
     if (any_nan(w)) continue;
     const float mn = min_weight(w);
     if (mn > best_min) {
@@ -348,6 +348,15 @@ ProbeWalkResult ProbeTetWalk::locate(const glm::vec3& p, std::int32_t start,
   const data::ProbeCloud& c = *cloud_;
   if (c.inner_count == 0) return no_cells(p);
   const auto cells = static_cast<std::int64_t>(c.cells.size());
+  if (start >= 0 && start < static_cast<std::int64_t>(c.inner_count)) {
+    // The common case inline (a cached tetrahedron that still holds p: about 7 entities in 8
+    // moving 8 cm a frame): walk()'s first step without its bookkeeping, the same result.
+    const std::array<float, 4> w = weights_at(c, start, p);
+    if (!any_nan(w) && min_weight(w) >= -kInsideTolerance) {
+      if (path) path->push_back(start);
+      return finish(c, start, w, p);
+    }
+  }
   int steps = 0;
   bool done = false;
   if (start >= 0 && start < cells) {
@@ -368,24 +377,40 @@ ProbeWalkResult ProbeTetWalk::locate(const glm::vec3& p, std::int32_t start,
   return r;
 }
 
+ProbeWalkResult ProbeTetWalk::at(std::int32_t cell, const glm::vec3& p) const {
+  const data::ProbeCloud& c = *cloud_;
+  if (cell < 0 || static_cast<std::size_t>(cell) >= c.cells.size()) return no_cells(p);
+  return finish(c, cell, weights_at(c, cell, p), p);
+}
+
 namespace {
-template <int kCoeffs>
+// The probes' SH weighted into out (kIn: the cloud's coefficients per channel; kOut: out's):
+// accumulated in a local array of min(kIn, kOut) coefficients per channel (one contiguous block
+// when kIn == kOut: 27 floats for 3 bands), then stored, zero past the cloud's bands.
+template <std::size_t kIn, std::size_t kOut>
 void accumulate(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
-                const std::array<float, 4>& weights, ProbeSh& out) {
+                const std::array<float, 4>& weights, std::array<std::array<float, kOut>, 3>& out) {
+  constexpr std::size_t kN = std::min<std::size_t>(kIn, kOut);
+  std::array<float, 3 * kN> acc{};
   for (std::size_t k = 0; k < 4; ++k) {
     const float w = weights[k];
     if (probes[k] < 0 || w == 0.0f) continue;
     const float* s = cloud.probe_sh(static_cast<std::size_t>(probes[k]));
-    for (std::size_t ch = 0; ch < 3; ++ch)
-      for (std::size_t i = 0; i < kCoeffs; ++i) out[ch][i] += w * s[ch * kCoeffs + i];
+    if constexpr (kN == kIn) {
+      for (std::size_t i = 0; i < 3 * kN; ++i) acc[i] += w * s[i];
+    } else {
+      for (std::size_t ch = 0; ch < 3; ++ch)
+        for (std::size_t i = 0; i < kN; ++i) acc[ch * kN + i] += w * s[ch * kIn + i];
+    }
   }
+  for (std::size_t ch = 0; ch < 3; ++ch)
+    for (std::size_t i = 0; i < kOut; ++i) out[ch][i] = i < kN ? acc[ch * kN + i] : 0.0f;
 }
-}  // namespace
 
-ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
-                             const std::array<std::int32_t, 4>& probes,
-                             const std::array<float, 4>& weights) {
-  ProbeSh out{};
+template <std::size_t kOut>  // out: sh::CoeffsRgb<bands>, kOut = bands^2
+void interpolate_at(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                    const std::array<float, 4>& weights,
+                    std::array<std::array<float, kOut>, 3>& out) {
   switch (cloud.bands) {  // the coefficient count as a constant: unrolled, vectorised loops
     case 2:
       accumulate<4>(cloud, probes, weights, out);
@@ -400,16 +425,48 @@ ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
       throw std::invalid_argument("interpolate_probe_sh: the cloud has " +
                                   std::to_string(cloud.bands) + " bands (2..4)");
   }
+}
+}  // namespace
+
+ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
+                             const std::array<std::int32_t, 4>& probes,
+                             const std::array<float, 4>& weights) {
+  ProbeSh out;
+  interpolate_at(cloud, probes, weights, out);
   return out;
 }
 
-ProbeSh ProbeTetWalk::interpolate(const ProbeWalkResult& r) const {
-  return interpolate_probe_sh(*cloud_, r.probes, r.weights);
+void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                          const std::array<float, 4>& weights, sh::CoeffsRgb<2>& out) {
+  interpolate_at(cloud, probes, weights, out);
+}
+void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                          const std::array<float, 4>& weights, sh::CoeffsRgb<3>& out) {
+  interpolate_at(cloud, probes, weights, out);
+}
+void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                          const std::array<float, 4>& weights, ProbeSh& out) {
+  interpolate_at(cloud, probes, weights, out);
 }
 
-std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
-                                       std::span<std::int32_t> cells,
-                                       std::span<ProbeSh> out) const {
+ProbeSh ProbeTetWalk::interpolate(const ProbeWalkResult& r) const {
+  ProbeSh out;
+  interpolate_at(*cloud_, r.probes, r.weights, out);
+  return out;
+}
+void ProbeTetWalk::interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<2>& out) const {
+  interpolate_at(*cloud_, r.probes, r.weights, out);
+}
+void ProbeTetWalk::interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<3>& out) const {
+  interpolate_at(*cloud_, r.probes, r.weights, out);
+}
+void ProbeTetWalk::interpolate(const ProbeWalkResult& r, ProbeSh& out) const {
+  interpolate_at(*cloud_, r.probes, r.weights, out);
+}
+
+template <int kOutBands>
+std::size_t ProbeTetWalk::batch(std::span<const glm::vec3> points, std::span<std::int32_t> cells,
+                                std::span<sh::CoeffsRgb<kOutBands>> out) const {
   if (cells.size() != points.size() || out.size() != points.size())
     throw std::invalid_argument("ProbeTetWalk::locate_batch: " + std::to_string(points.size()) +
                                 " points, " + std::to_string(cells.size()) + " cells, " +
@@ -420,10 +477,26 @@ std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
     if (i + kPrefetchProbes < points.size()) prefetch(cells[i + kPrefetchProbes], true);
     const ProbeWalkResult r = locate(points[i], cells[i]);
     cells[i] = r.cell;
-    out[i] = interpolate(r);
+    interpolate_at(*cloud_, r.probes, r.weights, out[i]);
     fallbacks += r.fallback ? 1 : 0;
   }
   return fallbacks;
+}
+
+std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
+                                       std::span<std::int32_t> cells,
+                                       std::span<ProbeSh> out) const {
+  return batch<kProbeShBands>(points, cells, out);
+}
+std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
+                                       std::span<std::int32_t> cells,
+                                       std::span<sh::CoeffsRgb<3>> out) const {
+  return batch<3>(points, cells, out);
+}
+std::size_t ProbeTetWalk::locate_batch(std::span<const glm::vec3> points,
+                                       std::span<std::int32_t> cells,
+                                       std::span<sh::CoeffsRgb<2>> out) const {
+  return batch<2>(points, cells, out);
 }
 
 }  // namespace penumbra::probe_cloud

@@ -15,7 +15,9 @@
 // Threading: pure functions of an immutable cloud.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include <glm/vec3.hpp>
@@ -32,6 +34,22 @@ std::array<float, 4> cell_weights(const data::ProbeCloud& cloud, std::uint32_t c
 double outer_cell_parameter(const data::ProbeCloud& cloud, std::uint32_t cell, const glm::vec3& p);
 
 // Negative weights to 0, then divided by their sum (the largest gets 1 if all were <= 0).
-std::array<float, 4> convex_weights(const std::array<float, 4>& w);
+// Inline: the walk calls it once per entity.
+inline std::array<float, 4> convex_weights(const std::array<float, 4>& w) {
+  std::array<float, 4> out{};
+  float sum = 0;
+  for (std::size_t i = 0; i < 4; ++i) {
+    out[i] = std::max(w[i], 0.0f);
+    sum += out[i];
+  }
+  if (sum > 0) {
+    for (float& v : out) v /= sum;
+    return out;
+  }
+  const auto best = static_cast<std::size_t>(std::max_element(w.begin(), w.end()) - w.begin());
+  out = {};
+  out[best] = 1.0f;
+  return out;
+}
 
 }  // namespace penumbra::probe_cloud

@@ -12,12 +12,14 @@
 //       Per entity with all three of Transform, ProbeAnchor and ProbeLighting, in parallel over
 //       chunks: the sample point (Transform * anchor offset) is located by walking from the
 //       cached cell (a fresh locate when the cell is from another generation), the anchor keeps
-//       the new cell, and the four probes' SH are interpolated into ProbeLighting::sample, then
-//       smoothed into ::irradiance (ProbeSettingsResource). A non-finite sample point (NaN/inf
+//       the new cell, and the four probes' SH are interpolated at ProbeLighting's 3 bands and
+//       written to ::irradiance, or blended into it when smoothing (ProbeSettingsResource; the
+//       unsmoothed sample is not stored). A non-finite sample point (NaN/inf
 //       transform or offset) is skipped: the entity keeps its anchor and lighting, and the
 //       report names it. No cloud (or no walk): nothing is written. Skipped: an entity whose
 //       sample point is bit-for-bit the one of its last walk, in the same cloud generation (its
-//       sample cannot have changed; only the smoothing advances).
+//       sample cannot have changed; only the smoothing advances, towards that sample rebuilt
+//       from the cached cell by ProbeTetWalk::at, no walk).
 //
 // Threading: probes.walk shares one immutable ProbeTetWalk between chunks; each chunk writes
 // only its own rows and its own slot of the report's partials (merged in chunk order by the

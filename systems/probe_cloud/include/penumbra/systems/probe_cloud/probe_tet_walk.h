@@ -112,8 +112,20 @@ class ProbeTetWalk {
   ProbeWalkResult locate(const glm::vec3& p, std::int32_t start,
                          std::vector<std::int32_t>* path = nullptr) const;
 
+  // What locate(p, ...) returned when it found `cell` for p, rebuilt without a walk: the cell's
+  // weights at p made convex (and snapped to a probe), as every walk ends; steps 0, no fallback
+  // flag. For a cloud without cells (cell -1) the nearest probe. The system smooths unmoved
+  // entities towards this (their unsmoothed sample is not stored).
+  ProbeWalkResult at(std::int32_t cell, const glm::vec3& p) const;
+
   // The four probes' SH weighted by the result's weights.
   ProbeSh interpolate(const ProbeWalkResult& r) const;
+  // The same at the bands of `out` (2..4): zero past the cloud's bands, the cloud's bands past
+  // out's dropped. At the cloud's own bands (3 by default: 27 floats, not 48) this reads and
+  // writes no more than the cloud holds; ProbeLighting takes 3 bands this way.
+  void interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<2>& out) const;
+  void interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<3>& out) const;
+  void interpolate(const ProbeWalkResult& r, ProbeSh& out) const;
   // A hint to the cache: what locate() from `cell` reads first (the cell and its transform) and,
   // with `probes`, its probes' SH (this reads the cell: issue the first hint a few points
   // earlier). Batch loops call it some entities ahead, so the cached cells' memory arrives while
@@ -123,11 +135,19 @@ class ProbeTetWalk {
     const data::ProbeCloud& c = *cloud_;
     if (cell < 0 || static_cast<std::size_t>(cell) >= c.cells.size()) return;
     const auto k = static_cast<std::size_t>(cell);
-    __builtin_prefetch(&c.cells[k]);
-    __builtin_prefetch(&c.transforms[k]);
+    prefetch_bytes(&c.cells[k], sizeof(data::ProbeCell));
+    prefetch_bytes(&c.transforms[k], sizeof(glm::mat4));
     if (!probes) return;
+    const std::size_t sh_bytes = c.coeffs_per_probe() * sizeof(float);
     for (std::int32_t v : c.cells[k].vertices)
-      if (v >= 0) __builtin_prefetch(c.probe_sh(static_cast<std::size_t>(v)));
+      if (v >= 0) prefetch_bytes(c.probe_sh(static_cast<std::size_t>(v)), sh_bytes);
+  }
+  // Every cache line of [p, p + bytes): a record need not start on a line (a 3-band probe's
+  // 108 bytes of SH span 2 or 3 lines, a transform 1 or 2).
+  static void prefetch_bytes(const void* p, std::size_t bytes) {
+    const char* b = static_cast<const char*>(p);
+    for (std::size_t o = 0; o < bytes; o += 64) __builtin_prefetch(b + o);
+    __builtin_prefetch(b + bytes - 1);
   }
 
   // locate + interpolate for many points: cells[i] is the start on entry and the found cell on
@@ -136,12 +156,20 @@ class ProbeTetWalk {
   // threads on separate slices.
   std::size_t locate_batch(std::span<const glm::vec3> points, std::span<std::int32_t> cells,
                            std::span<ProbeSh> out) const;
+  // The same with the SH at 2 or 3 bands (interpolate(r, out) above).
+  std::size_t locate_batch(std::span<const glm::vec3> points, std::span<std::int32_t> cells,
+                           std::span<sh::CoeffsRgb<3>> out) const;
+  std::size_t locate_batch(std::span<const glm::vec3> points, std::span<std::int32_t> cells,
+                           std::span<sh::CoeffsRgb<2>> out) const;
 
  private:
   ProbeWalkResult walk(const glm::vec3& p, std::int32_t start, int cap, float far2, bool& done,
                        std::vector<std::int32_t>* path) const;
   ProbeWalkResult brute_force(const glm::vec3& p) const;
   ProbeWalkResult no_cells(const glm::vec3& p) const;
+  template <int kOutBands>
+  std::size_t batch(std::span<const glm::vec3> points, std::span<std::int32_t> cells,
+                    std::span<sh::CoeffsRgb<kOutBands>> out) const;
 
   std::shared_ptr<const data::ProbeCloud> cloud_;
   ProbeWalkSettings settings_;
@@ -153,5 +181,12 @@ class ProbeTetWalk {
 ProbeSh interpolate_probe_sh(const data::ProbeCloud& cloud,
                              const std::array<std::int32_t, 4>& probes,
                              const std::array<float, 4>& weights);
+// The same at out's bands (2..4; ProbeTetWalk::interpolate(r, out)).
+void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                          const std::array<float, 4>& weights, sh::CoeffsRgb<2>& out);
+void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                          const std::array<float, 4>& weights, sh::CoeffsRgb<3>& out);
+void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+                          const std::array<float, 4>& weights, ProbeSh& out);
 
 }  // namespace penumbra::probe_cloud
