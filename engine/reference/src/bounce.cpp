@@ -3,6 +3,8 @@
 // MIS as in irradiance.cpp, each spherical light by cone sampling as in lights.cpp), times the
 // albedo. With cosine sampling, L_1 cos / pdf = pi * albedo / pi * E_direct = albedo E_direct
 // (PBRT 3rd ed. sec. 14.5, a path of length 2 with next-event estimation at its vertex).
+// Ground truth for the diffuse reflection off dynamic objects of [Guerrero08]; docs/reference.md,
+// "One diffuse bounce", gives the variance and the cost.
 #include <algorithm>
 #include <array>
 #include <cmath>
