@@ -88,7 +88,10 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
     const float key0 = per_object ? glm::length(object_centres_[l.object] - p) : 0.0f;
     views[count++] = {v, std::asin(std::min(v.sin_angle, 1.0f)), key0, d, i};
   }
-  if (counts) counts->views += static_cast<std::size_t>(count);
+  if (counts) {
+    counts->views += static_cast<std::size_t>(count);
+    counts->lights += lights_.size();
+  }
   // [Guerrero08] sec. 7.2 / 8.3: front to back, by sphere or by object then sphere.
   std::sort(views, views + count, [](const View& a, const View& b) {
     return a.key0 != b.key0 ? a.key0 < b.key0 : a.key1 < b.key1;
@@ -117,6 +120,7 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
       const View& b = views[j];
       const SphereLightSource<N>& lj = lights_[b.light];
       if (!lj.blocks) continue;
+      if (counts) ++counts->pairs;
       if (lj.object == li.object && glm::length(lj.centre - li.centre) < lj.radius + li.radius) {
         continue;  // [Guerrero08] sec. 6.2: intersecting SLs of one object
       }
@@ -127,6 +131,7 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
       faded.weight *= smoothstep01(overlap / (0.25f * std::max(b.angle, 1e-6f)));
       if (!(faded.weight > 0)) continue;
       blocker_accumulation::add_log_visibility<N>(faded, log_eps_, g);
+      if (counts) ++counts->logs;
       any = true;
     }
     float visibility = unblocked;
@@ -147,7 +152,7 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
       diff[0] -= std::sqrt(4 * 3.14159265358979f);  // the constant 1
       const float scale = 1.0f / (1.0f - std::min(settings_.blocker.epsilon, 0.999f));
       visibility = std::clamp(unblocked + scale * sh::dot<N>(rho, diff), 0.0f, unblocked);
-      if (counts) ++counts->blocked, counts->exponentials += 3;
+      if (counts) ++counts->blocked, counts->exponentials += 3, ++counts->logs;
     }
     total += e.v.weight * radiance * visibility;  // eq. 14
   }

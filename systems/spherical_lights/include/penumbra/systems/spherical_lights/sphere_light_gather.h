@@ -83,6 +83,9 @@ class SphereLightGather {
     std::size_t emitters = 0;      // of those, shaded as lights
     std::size_t blocked = 0;       // emitters with a blocker in front (exponentials paid)
     std::size_t exponentials = 0;  // SH exponentials
+    std::size_t lights = 0;        // SLs looked at (plane rule or bound)
+    std::size_t pairs = 0;         // (emitter, SL in front) overlap tests
+    std::size_t logs = 0;          // log-SH caps added (add_log_visibility)
   };
   // Irradiance (W/m^2 per channel) at p with unit normal n from every SL; `counts` gains the cost.
   glm::vec3 irradiance(const glm::vec3& p, const glm::vec3& n, Counts* counts = nullptr) const;
