@@ -21,10 +21,13 @@
 #include "penumbra/components/mesh.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
+#include "penumbra/components/reflector.h"
+#include "penumbra/components/reflector_radiance.h"
 #include "penumbra/components/sphere_set.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/data/height_field.h"
+#include "penumbra/systems/spherical_lights/reflector_samples.h"
 #include "terrain_height.h"
 
 namespace penumbra::game {
@@ -160,6 +163,7 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
   });
   const float extent =
       terrain ? terrain->heights->cell_size * (terrain->heights->width - 1) : 20000.0f;
+  ecs::Entity pair_leader{};
   for (int i = 0; i < config.count; ++i) {
     const Model& m = models[i % 3 == 2 ? 1 : 0];  // bunny, bunny, Suzanne, ...
     Boulder b;
@@ -169,11 +173,29 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
     b.radius = config.radius * (0.8f + 0.4f * static_cast<float>(i % 3) / 2.0f);
     b.scale = b.radius / m.radius;
     b.model_centre = m.centre;
-    const glm::vec3 albedo = i % 2 ? glm::vec3(0.62f, 0.55f, 0.45f) : glm::vec3(0.5f, 0.5f, 0.52f);
-    world.create_with(b, Transform{}, components::MeshInstance{m.mesh},
-                      components::Material{albedo, 0.0f}, components::SphereSet{m.spheres},
-                      components::Receiver{m.points, m.normals}, components::ReceiverLighting{},
-                      components::VertexLighting{}, components::DebugLines{});
+    glm::vec3 albedo = i % 2 ? glm::vec3(0.62f, 0.55f, 0.45f) : glm::vec3(0.5f, 0.5f, 0.52f);
+    if (i < config.reflectors && config.reflectors >= 2 && i < 2) {
+      // The colour-bleeding pair: red ahead, white on the next circle out, side by side.
+      albedo = i == 0 ? glm::vec3(0.85f, 0.08f, 0.04f) : glm::vec3(0.85f, 0.85f, 0.85f);
+      if (i == 1) {
+        const Boulder& first = *world.get<Boulder>(pair_leader);
+        b.path_radius = first.path_radius + first.radius + b.radius * 1.15f;
+        b.phase = first.phase;
+        b.speed = first.speed * b.path_radius / first.path_radius;  // same angular speed
+      }
+    }
+    const ecs::Entity e = world.create_with(
+        b, Transform{}, components::MeshInstance{m.mesh}, components::Material{albedo, 0.0f},
+        components::SphereSet{m.spheres}, components::Receiver{m.points, m.normals},
+        components::ReceiverLighting{}, components::VertexLighting{}, components::DebugLines{});
+    if (i == 0) pair_leader = e;
+    if (i < config.reflectors) {
+      // [Guerrero08] sec. 4.2: sample points on the drawn (simplified) mesh, tinted.
+      auto samples = std::make_shared<const data::ReflectorSamples>(
+          spherical_lights::sample_reflector(*m.mesh, *m.spheres, {}, albedo));
+      world.add(e, components::Reflector{std::move(samples)});
+      world.add(e, components::ReflectorRadiance{});
+    }
   }
 }
 

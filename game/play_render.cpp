@@ -27,6 +27,7 @@
 #include "penumbra/render/window.h"
 #include "penumbra/render/window_target.h"
 #include "penumbra/systems/render_extract/render_extract.h"
+#include "penumbra/systems/spherical_lights/spherical_light_systems.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_state.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 #include "play.h"
@@ -417,7 +418,7 @@ int run_window(const Options& o) {
   std::vector<FrameSample> samples;
   int f = 0;
   auto last = Clock::now();
-  bool p_was_down = false;
+  bool p_was_down = false, i_was_down = false;
   for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
     window.poll_events();
     if (window.escape_pressed()) window.request_close();
@@ -427,6 +428,14 @@ int run_window(const Options& o) {
       if (auto* view = sim.world.try_resource<game::ProbeDebugView>())
         view->enabled = !view->enabled;
     p_was_down = p_down;
+    // I toggles the spherical lights' indirect light (systems/spherical_lights).
+    const bool i_down = glfwGetKey(window.glfw(), GLFW_KEY_I) == GLFW_PRESS;
+    auto* sl = sim.world.try_resource<spherical_lights::SphericalLightSettingsResource>();
+    if (i_down && !i_was_down && sl) sl->indirect = !sl->indirect;
+    i_was_down = i_down;
+    stats.lines.clear();
+    if (sl)
+      stats.lines.push_back(std::string("I: indirect light ") + (sl->indirect ? "on" : "off"));
     if (auto* probe = sim.world.try_resource<game::HorizonProbe>()) {
       // The horizon debug view follows the cursor (window coordinates to NDC, y down).
       double cx = 0, cy = 0;

@@ -8,9 +8,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "penumbra/data/environment_map.h"
 #include "penumbra/assets/exr.h"
-#include "penumbra/data/height_field.h"
 #include "penumbra/assets/heightmap.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
@@ -19,10 +17,13 @@
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
+#include "penumbra/data/environment_map.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/render/packet.h"
 #include "penumbra/sh/projection.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
 #include "penumbra/systems/render_extract/render_extract.h"
+#include "penumbra/systems/spherical_lights/spherical_light_systems.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
 #include "penumbra/systems/terrain_shadow/terrain_horizons.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
@@ -197,6 +198,7 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}, 2.0f},
                     TerrainLighting{}, DebugLines{});
   blocker_accumulation::emplace_blocker_resources(world);
+  spherical_lights::emplace_spherical_light_resources(world);
   populate_boulders(world, dir.string(), config.boulders);
   populate_probe_demo(world, dir.string(), map, config.probes);
   world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
@@ -220,6 +222,7 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
   add_probe_demo_systems(s);
   terrain_shadow::add_terrain_shadow_systems(s);
   blocker_accumulation::add_blocker_systems(s);
+  spherical_lights::add_spherical_light_systems(s);
   s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
       .reads<Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe>()
       .writes<DebugSphere, DebugLines>();

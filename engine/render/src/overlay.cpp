@@ -89,6 +89,7 @@ void Overlay::build(const OverlayStats& stats, ViewSettings& view) {
   ImGui::Text("%s", stats.device.c_str());
   ImGui::Text("frame %.2f ms (%.0f fps)", stats.frame_ms,
               stats.frame_ms > 0 ? 1000.0 / stats.frame_ms : 0.0);
+  for (const std::string& line : stats.lines) ImGui::Text("%s", line.c_str());
   if (ImGui::CollapsingHeader("CPU systems (ms)", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (const auto& [name, ms] : stats.systems) ImGui::Text("%-14s %7.3f", name.c_str(), ms);
   }

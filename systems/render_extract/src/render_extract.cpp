@@ -1,10 +1,13 @@
 #include "penumbra/systems/render_extract/render_extract.h"
 
+#include <numbers>
+
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/material.h"
 #include "penumbra/components/mesh.h"
+#include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 
@@ -19,6 +22,7 @@ using components::DebugPoints;
 using components::DebugSphere;
 using components::Material;
 using components::MeshInstance;
+using components::ReceiverLighting;
 using components::Terrain;
 using components::TerrainLighting;
 using components::Transform;
@@ -72,18 +76,27 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
     }
   });
 
-  world.query<const Transform, const MeshInstance>().each(
-      [&](ecs::Entity e, const Transform& t, const MeshInstance& m) {
-        if (!m.mesh) return;
-        render::MeshDraw d;
-        d.mesh = m.mesh;
-        d.transform = t.world;
-        const BaseColor* c = world.get<BaseColor>(e);
-        const Material* mat = world.get<Material>(e);
-        d.albedo = mat ? mat->albedo : c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
-        if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
-        packet.meshes.push_back(std::move(d));
-      });
+  world.query<const Transform, const MeshInstance>().each([&](ecs::Entity e, const Transform& t,
+                                                              const MeshInstance& m) {
+    if (!m.mesh) return;
+    render::MeshDraw d;
+    d.mesh = m.mesh;
+    d.transform = t.world;
+    const BaseColor* c = world.get<BaseColor>(e);
+    const Material* mat = world.get<Material>(e);
+    d.albedo = mat ? mat->albedo : c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
+    if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
+    // One-bounce light from spherical lights ([Guerrero08] eq. 12), its own term in
+    // ReceiverLighting: added here as radiance per unit albedo, E / pi.
+    const ReceiverLighting* r = world.get<ReceiverLighting>(e);
+    if (r && r->indirect && d.vertex_lighting && r->indirect->size() == d.vertex_lighting->size()) {
+      auto sum = std::make_shared<std::vector<glm::vec3>>(*d.vertex_lighting);
+      for (std::size_t i = 0; i < sum->size(); ++i)
+        (*sum)[i] += (*r->indirect)[i] * std::numbers::inv_pi_v<float>;
+      d.vertex_lighting = std::move(sum);
+    }
+    packet.meshes.push_back(std::move(d));
+  });
 
   world.query<const DebugSphere>().each([&](const DebugSphere& s) {
     packet.spheres.push_back({s.center, s.radius, s.color});
@@ -104,7 +117,7 @@ jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
                   extract_render_packet(w, w.resource<render::RenderPacket>(), cache.get());
                 })
       .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance, BaseColor,
-             Material, VertexLighting, DebugSphere, DebugLines, DebugPoints>()
+             Material, VertexLighting, ReceiverLighting, DebugSphere, DebugLines, DebugPoints>()
       .writes<render::RenderPacket>();
 }
 

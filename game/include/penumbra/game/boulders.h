@@ -10,7 +10,8 @@
 // Systems: demo_boulders reads FrameTime, Terrain, Boulder; writes Transform (register before
 // the blocker systems). demo_boulder_spheres reads Boulder, SphereSet, Transform, BoulderView;
 // writes DebugLines: with BoulderView::spheres, three wire circles per sphere (the sets the
-// blocker system sees), else nothing.
+// blocker system sees), else nothing. Reflecting boulders carry a Reflector (sample points found
+// on the simplified mesh at start, about 0.1 s per model) and a ReflectorRadiance.
 #pragma once
 
 #include <string>
@@ -32,6 +33,11 @@ struct BoulderConfig {
   float simplify_error = 0.01f;
   std::string cache_dir;      // where fitted sphere files are kept; empty: fit every start
   bool show_spheres = false;  // the debug view: each sphere set as wire circles
+  // The first `reflectors` boulders are also spherical lights (systems/spherical_lights,
+  // [Guerrero08]): their spheres re-emit the light their surface reflects. With 2 or more, the
+  // first is tinted bright red and the second, white, rolls beside it: the red one's light
+  // bleeds onto the white one as they go.
+  int reflectors = 2;
 };
 
 // Resource: what the boulders' debug view draws (BoulderConfig::show_spheres at start).

@@ -16,6 +16,8 @@
 //                     systems/probe_cloud's traversal, and its debug views)
 //   terrain_shadow.*  (systems/terrain_shadow)
 //   blockers.*        (systems/blocker_accumulation: the boulders' shadows, after the terrain's)
+//   spherical_lights.* (systems/spherical_lights: the reflecting boulders' one-bounce light on
+//                     the boulders, after the blockers'; key I toggles it in a window)
 //   demo_debug_view   reads Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe,
 //                     writes DebugSphere (the light's extent) and the terrain's DebugLines (the
 //                     horizon wedges under the probe)

@@ -32,6 +32,7 @@ struct OverlayStats {
   double frame_ms = 0;                                  // wall time of the whole frame loop
   std::vector<std::pair<std::string, double>> systems;  // CPU ms per system (job graph)
   std::vector<PassTime> passes;                         // GPU ms per pass
+  std::vector<std::string> lines;                       // more lines (keys, switches)
 };
 
 class Overlay {

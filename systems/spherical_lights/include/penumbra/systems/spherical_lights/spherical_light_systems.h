@@ -1,0 +1,58 @@
+// The spherical-light system in the job graph ([Guerrero08]): two task systems, registered after
+// add_blocker_systems (they read its BlockerField and add to what blockers.shade wrote).
+//
+//   spherical_lights.reflect  reads Reflector, Transform, BlockerField, EnvironmentLight,
+//       SphericalLightSettingsResource; writes ReflectorRadiance, SphericalLightField
+//       Pass 1 (reflector_lighting.h): per entity with a Reflector, a Transform and a
+//       ReflectorRadiance, the direct light at its sample points (the blockers'
+//       BlockerAccumulation: every sphere blocker and local light of the frame, the environment SH)
+//       and each spherical light's radiance SH; then every entity's lights placed into the field's
+//       SphereLightGather. An entity whose transform is not finite, or whose samples do not
+//       match its sphere count, is left out and named in SphericalLightField::errors.
+//   spherical_lights.gather   reads Receiver, Transform, SphericalLightField,
+//       SphericalLightSettingsResource; writes ReceiverLighting
+//       Pass 2 (sphere_light_gather.h): the one-bounce irradiance at each receiver point,
+//       published as ReceiverLighting::indirect (new shared array). Entities are re-shaded whole,
+//       round robin within the settings' point budget, as blockers.shade does. With `indirect`
+//       off in the settings every entity's indirect term is cleared.
+// render_extract adds indirect / pi to the VertexLighting it draws (radiance per unit albedo).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "penumbra/ecs/world.h"
+#include "penumbra/jobs/schedule.h"
+#include "penumbra/systems/spherical_lights/reflector_lighting.h"
+#include "penumbra/systems/spherical_lights/sphere_light_gather.h"
+
+namespace penumbra::spherical_lights {
+
+inline constexpr int kSystemBands = 4;  // = components::ReflectorRadiance::kBands
+
+// Resource: how the system shades.
+struct SphericalLightSettingsResource {
+  SphereLightSettings settings;
+  bool indirect = true;  // false: no indirect light (the HUD's toggle)
+  // Receiver points shaded per frame (0: all), whole entities round robin (a new one at once).
+  std::size_t receiver_budget = 2048;
+};
+
+// Resource: this frame's spherical lights, written by spherical_lights.reflect.
+struct SphericalLightField {
+  std::shared_ptr<SphereLightGather<kSystemBands>> gather;
+  std::shared_ptr<const ReflectorLighting<kSystemBands>> lighting;  // cell sums, per direction set
+  std::size_t lights = 0;                                           // spherical lights this frame
+  std::size_t sample_points = 0;  // sample points lit this frame (pass 1)
+  std::size_t receivers = 0;      // receiver points shaded this frame (pass 2)
+  std::uint64_t cursor = 0;       // next receiving entity of the round robin
+  std::vector<std::string> errors;
+};
+
+// Adds SphericalLightSettingsResource (with `settings`) and SphericalLightField when absent.
+void emplace_spherical_light_resources(ecs::World& world, const SphereLightSettings& settings = {});
+void add_spherical_light_systems(jobs::Schedule& schedule);
+
+}  // namespace penumbra::spherical_lights

@@ -1,0 +1,200 @@
+#include "penumbra/systems/spherical_lights/spherical_light_systems.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include "penumbra/components/environment_light.h"
+#include "penumbra/components/receiver.h"
+#include "penumbra/components/receiver_lighting.h"
+#include "penumbra/components/reflector.h"
+#include "penumbra/components/reflector_radiance.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/sh/rotation.h"
+#include "penumbra/systems/blocker_accumulation/blocker_systems.h"
+
+namespace penumbra::spherical_lights {
+namespace {
+
+using components::EnvironmentLight;
+using components::Receiver;
+using components::ReceiverLighting;
+using components::Reflector;
+using components::ReflectorRadiance;
+using components::Transform;
+
+constexpr int N = kSystemBands;
+static_assert(N == ReflectorRadiance::kBands && N == blocker_accumulation::kSystemBands);
+
+std::string entity_name(ecs::Entity e) {
+  return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
+}
+
+bool finite(const glm::mat4& m) {
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!std::isfinite(m[c][r])) return false;
+    }
+  }
+  return true;
+}
+
+// [Guerrero08] sec. 7.1: rigid motion and uniform scale (the largest axis scale, as
+// blockers.gather scales radii).
+bool pose_of(const glm::mat4& world, ObjectPose& pose) {
+  const glm::mat3 m(world);
+  const float sx = glm::length(m[0]), sy = glm::length(m[1]), sz = glm::length(m[2]);
+  if (!(sx > 0 && sy > 0 && sz > 0)) return false;
+  pose.rotation = glm::mat3(m[0] / sx, m[1] / sy, m[2] / sz);
+  pose.scale = std::max({sx, sy, sz});
+  pose.translation = glm::vec3(world[3]);
+  return true;
+}
+
+sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
+  sh::CoeffsRgb<N> radiance{};
+  if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>()) {
+    for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+  }
+  return radiance;
+}
+
+void reflect(ecs::World& w) {
+  SphericalLightField& field = w.resource<SphericalLightField>();
+  const SphericalLightSettingsResource& settings =
+      w.resource<const SphericalLightSettingsResource>();
+  field.errors.clear();
+  field.sample_points = 0;
+  if (!field.gather || field.gather->settings() != settings.settings) {
+    field.gather = std::make_shared<SphereLightGather<N>>(settings.settings);
+  }
+  const blocker_accumulation::BlockerField* blockers =
+      w.try_resource<const blocker_accumulation::BlockerField>();
+  std::vector<SphereLightSource<N>> lights;
+  if (settings.indirect && blockers && blockers->accumulation) {
+    const sh::CoeffsRgb<N> environment = environment_radiance(w);
+    std::uint32_t object = 0;
+    w.query<const Reflector, const Transform, ReflectorRadiance>().each(
+        [&](ecs::Entity e, const Reflector& r, const Transform& t, ReflectorRadiance& out) {
+          ObjectPose pose;
+          if (!r.samples || !finite(t.world) || !pose_of(t.world, pose)) {
+            field.errors.push_back(entity_name(e) +
+                                   ": no samples, or a transform that is not finite or has a "
+                                   "zero scale; it emits no indirect light");
+            return;
+          }
+          if (!field.lighting ||
+              field.lighting->cells().cells() != static_cast<int>(r.samples->directions.size())) {
+            field.lighting = std::make_shared<const ReflectorLighting<N>>(r.samples->directions);
+          }
+          // [Guerrero08] sec. 5: direct light at the sample points, then L^c per light.
+          auto radiance = std::make_shared<std::vector<sh::CoeffsRgb<N>>>(
+              field.lighting->update(*r.samples, pose, *blockers->accumulation, environment));
+          for (const auto& sl : r.samples->lights) field.sample_points += sl.count();
+          ReflectorLighting<N>::place(*r.samples, pose, *radiance, object++, lights);
+          out.radiance = std::move(radiance);
+        });
+  }
+  field.lights = lights.size();
+  field.gather->set_lights(std::move(lights));
+}
+
+void gather(ecs::World& w) {
+  SphericalLightField& field = w.resource<SphericalLightField>();
+  const SphericalLightSettingsResource& settings =
+      w.resource<const SphericalLightSettingsResource>();
+  field.receivers = 0;
+  if (!settings.indirect || !field.gather) {
+    w.query<ReceiverLighting>().each([](ReceiverLighting& l) { l.indirect.reset(); });
+    return;
+  }
+  const SphereLightGather<N>& gather = *field.gather;
+  struct Item {
+    ecs::Entity e;
+    const Receiver* r;
+    const Transform* t;
+    ReceiverLighting* out;
+  };
+  std::vector<Item> all;
+  w.query<const Receiver, const Transform, ReceiverLighting>().each(
+      [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
+        all.push_back({e, &r, &t, &out});
+      });
+  // Every entity without an indirect term now, then round robin within the point budget.
+  std::vector<Item> now;
+  std::size_t points = 0;
+  for (const Item& it : all) {
+    if (!it.out->indirect) now.push_back(it), points += it.r->points ? it.r->points->size() : 0;
+  }
+  const std::size_t budget = settings.receiver_budget;
+  for (std::size_t k = 0; k < all.size() && (budget == 0 || points < budget || now.empty()); ++k) {
+    const Item& it = all[(field.cursor + k) % all.size()];
+    if (!it.out->indirect) continue;
+    now.push_back(it);
+    points += it.r->points ? it.r->points->size() : 0;
+    ++field.cursor;
+  }
+  for (const Item& it : now) {
+    const Receiver& r = *it.r;
+    if (!r.points || !r.normals || r.points->size() != r.normals->size() || !finite(it.t->world)) {
+      field.errors.push_back(entity_name(it.e) +
+                             ": receiver points and normals differ or the transform is not finite");
+      continue;
+    }
+    const std::size_t n = r.points->size();
+    const glm::mat4 world = it.t->world;
+    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+    auto indirect = std::make_shared<std::vector<glm::vec3>>(n, glm::vec3(0.0f));
+    std::mutex error_mutex;
+    std::string error;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 128),
+                      [&](const tbb::blocked_range<std::size_t>& range) {
+                        for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                          const glm::vec3 p = glm::vec3(world * glm::vec4((*r.points)[i], 1.0f));
+                          glm::vec3 nn = normal_matrix * (*r.normals)[i];
+                          const float len = glm::length(nn);
+                          if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
+                              !std::isfinite(p.y) || !std::isfinite(p.z)) {
+                            std::lock_guard lock(error_mutex);
+                            error = entity_name(it.e) + ": receiver point " + std::to_string(i) +
+                                    " or its normal is not finite";
+                            continue;
+                          }
+                          (*indirect)[i] = gather.irradiance(p, nn / len);  // [Guerrero08] eq. 14
+                        }
+                      });
+    if (!error.empty()) field.errors.push_back(error + "; its indirect light is left out");
+    it.out->indirect = std::move(indirect);
+    field.receivers += n;
+  }
+}
+
+}  // namespace
+
+void emplace_spherical_light_resources(ecs::World& world, const SphereLightSettings& settings) {
+  if (!world.try_resource<SphericalLightSettingsResource>()) {
+    world.emplace_resource<SphericalLightSettingsResource>(
+        SphericalLightSettingsResource{settings});
+  }
+  if (!world.try_resource<SphericalLightField>()) world.emplace_resource<SphericalLightField>();
+}
+
+void add_spherical_light_systems(jobs::Schedule& schedule) {
+  schedule
+      .add_task("spherical_lights.reflect", [](jobs::SystemContext& ctx) { reflect(ctx.world()); })
+      .reads<Reflector, Transform, blocker_accumulation::BlockerField, EnvironmentLight,
+             SphericalLightSettingsResource>()
+      .writes<ReflectorRadiance, SphericalLightField>();
+  schedule
+      .add_task("spherical_lights.gather", [](jobs::SystemContext& ctx) { gather(ctx.world()); })
+      .reads<Receiver, Transform, SphericalLightSettingsResource>()
+      .writes<SphericalLightField, ReceiverLighting>();
+}
+
+}  // namespace penumbra::spherical_lights
