@@ -1,8 +1,13 @@
 #include "penumbra/systems/probe_cloud/probe_tet_walk.h"
 
+#include <sys/mman.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -28,15 +33,16 @@ float min_weight(const std::array<float, 4>& w) {
   return std::min(std::min(w[0], w[1]), std::min(w[2], w[3]));
 }
 
-// cell_weights() with the inner tetrahedra inline (the walk's hot path; same formula, the
-// transform of data/probe_cloud.h).
-std::array<float, 4> weights_at(const data::ProbeCloud& cloud, std::int32_t cell,
-                                const glm::vec3& p) {
+// cell_weights() with the inner tetrahedra inline from the hot copy of the transform (the walk's
+// hot path; same formula and operations as cell_weights on data/probe_cloud.h's transform).
+std::array<float, 4> weights_at(const data::ProbeCloud& cloud, const detail::ProbeHotData& hot,
+                                std::int32_t cell, const glm::vec3& p) {
   const auto i = static_cast<std::size_t>(cell);
   if (i < cloud.inner_count) {
-    const glm::mat4& m = cloud.transforms[i];
-    const glm::vec3 d = p - glm::vec3(m[3]);
-    const glm::vec3 l = glm::vec3(m[0]) * d.x + glm::vec3(m[1]) * d.y + glm::vec3(m[2]) * d.z;
+    const std::array<float, 12>& m = hot.cells[i].transform;
+    const glm::vec3 d = p - glm::vec3(m[9], m[10], m[11]);
+    const glm::vec3 l = glm::vec3(m[0], m[1], m[2]) * d.x + glm::vec3(m[3], m[4], m[5]) * d.y +
+                        glm::vec3(m[6], m[7], m[8]) * d.z;
     return {l.x, l.y, l.z, 1.0f - l.x - l.y - l.z};
   }
   return cell_weights(cloud, static_cast<std::uint32_t>(cell), p);
@@ -47,23 +53,71 @@ bool any_nan(const std::array<float, 4>& w) {
 }
 
 // The result for p in `cell` with its raw weights `w`: convex, snapped to a probe when p is on it.
-ProbeWalkResult finish(const data::ProbeCloud& cloud, std::int32_t cell,
+ProbeWalkResult finish(const detail::ProbeHotData& hot, std::int32_t cell,
                        const std::array<float, 4>& w, const glm::vec3& p) {
   ProbeWalkResult r;
   r.cell = cell;
-  const data::ProbeCell& c = cloud.cells[static_cast<std::size_t>(cell)];
-  r.probes = c.vertices;  // an outer cell's vertices[3] is kOuterVertex (-1), its weight 0
+  r.probes = hot.cells[static_cast<std::size_t>(cell)].vertices;
   r.weights = convex_weights(w);
-  if (c.outer()) r.weights[3] = 0;
-  for (int k = 0; k < 4; ++k)
-    if (r.weights[static_cast<std::size_t>(k)] >= 1.0f - kVertexSnap ||
-        (r.probes[static_cast<std::size_t>(k)] >= 0 &&
-         cloud.positions[static_cast<std::size_t>(r.probes[static_cast<std::size_t>(k)])] == p)) {
+  if (r.probes[3] == data::kOuterVertex) r.weights[3] = 0;  // an outer cell: weight 3 is 0
+  for (std::size_t k = 0; k < 4; ++k) {
+    bool at_probe = r.weights[k] >= 1.0f - kVertexSnap;
+    if (!at_probe && r.probes[k] >= 0) {
+      const float* q = hot.probe(static_cast<std::size_t>(r.probes[k])) + hot.sh_count;
+      at_probe = glm::vec3(q[0], q[1], q[2]) == p;
+    }
+    if (at_probe) {
       r.weights = {0, 0, 0, 0};
-      r.weights[static_cast<std::size_t>(k)] = 1.0f;
+      r.weights[k] = 1.0f;
       break;
     }
+  }
   return r;
+}
+
+// Memory for the hot copy: line-aligned; from 1 MiB on, whole 2 MiB pages advised huge.
+std::shared_ptr<void> hot_alloc(std::size_t bytes) {
+  constexpr std::size_t kHuge = std::size_t{2} << 20;
+  const bool huge = bytes >= (std::size_t{1} << 20);
+  const std::size_t align = huge ? kHuge : 64;
+  const std::size_t size = (std::max<std::size_t>(bytes, 1) + align - 1) / align * align;
+  void* p = std::aligned_alloc(align, size);
+  if (!p) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  if (huge) (void)madvise(p, size, MADV_HUGEPAGE);  // advice only: 4 KiB pages otherwise
+#endif
+  std::memset(p, 0, size);
+  return std::shared_ptr<void>(p, [](void* q) { std::free(q); });
+}
+
+detail::ProbeHotData make_hot(const data::ProbeCloud& c) {
+  detail::ProbeHotData h;
+  h.sh_count = c.coeffs_per_probe();
+  h.stride = (h.sh_count + 3 + 15) / 16 * 16;
+  const std::size_t cell_bytes = c.cells.size() * sizeof(detail::ProbeHotCell);
+  const std::size_t probe_bytes = c.probe_count() * h.stride * sizeof(float);
+  std::shared_ptr<void> memory = hot_alloc(cell_bytes + probe_bytes);
+  auto* cells = static_cast<detail::ProbeHotCell*>(memory.get());
+  auto* probes = reinterpret_cast<float*>(static_cast<char*>(memory.get()) + cell_bytes);
+  for (std::size_t i = 0; i < c.cells.size(); ++i) {
+    detail::ProbeHotCell& hc = *new (cells + i) detail::ProbeHotCell{};
+    hc.vertices = c.cells[i].vertices;
+    if (i >= c.inner_count) continue;
+    for (int col = 0; col < 4; ++col)
+      for (int row = 0; row < 3; ++row)
+        hc.transform[static_cast<std::size_t>(col * 3 + row)] = c.transforms[i][col][row];
+  }
+  for (std::size_t k = 0; k < c.probe_count(); ++k) {
+    float* r = probes + k * h.stride;
+    std::copy(c.probe_sh(k), c.probe_sh(k) + h.sh_count, r);
+    r[h.sh_count] = c.positions[k].x;
+    r[h.sh_count + 1] = c.positions[k].y;
+    r[h.sh_count + 2] = c.positions[k].z;
+  }
+  h.cells = cells;
+  h.probes = probes;
+  h.memory = std::move(memory);
+  return h;
 }
 
 }  // namespace
@@ -224,6 +278,8 @@ ProbeTetWalk::ProbeTetWalk(std::shared_ptr<const data::ProbeCloud> cloud,
     if (!finite(c.positions[i]))
       throw std::invalid_argument(what + "probe " + std::to_string(i) + " is not finite");
   grid_ = ProbeCellGrid(c);
+  hot_ = make_hot(c);
+  cell_count_ = c.cells.size();
 }
 
 ProbeWalkResult ProbeTetWalk::walk(const glm::vec3& p, std::int32_t start, int cap, float far2,
@@ -245,24 +301,25 @@ ProbeWalkResult ProbeTetWalk::walk(const glm::vec3& p, std::int32_t start, int c
   for (int steps = 0;; ++steps) {
     visited[static_cast<std::size_t>(count++ % kRing)] = cell;
     if (path) path->push_back(cell);
-    const std::array<float, 4> w = weights_at(c, cell, p);
+    const std::array<float, 4> w = weights_at(c, hot_, cell, p);
     ProbeWalkResult r;
     r.steps = steps;
     if (any_nan(w)) return r;  // a degenerate cell: let the caller fall back
     const float mn = min_weight(w);
     if (mn >= -kInsideTolerance) {
-      r = finish(c, cell, w, p);
+      r = finish(hot_, cell, w, p);
       r.steps = steps;
       done = true;
       return r;
     }
     if (steps == 0 && far2 >= 0) {
       // A teleport: p far from every vertex of the start cell; the grid's start is nearer.
-      const data::ProbeCell& sc = c.cells[static_cast<std::size_t>(cell)];
+      // (The positions from the hot probe records: the batch loops prefetched them.)
+      const std::array<std::int32_t, 4>& v = hot_.cells[static_cast<std::size_t>(cell)].vertices;
       float nearest = std::numeric_limits<float>::infinity();
-      for (int k = 0; k < (sc.outer() ? 3 : 4); ++k) {
-        const glm::vec3 d =
-            p - c.positions[static_cast<std::size_t>(sc.vertices[static_cast<std::size_t>(k)])];
+      for (std::size_t k = 0; k < (v[3] == data::kOuterVertex ? 3u : 4u); ++k) {
+        const float* q = hot_.probe(static_cast<std::size_t>(v[k])) + hot_.sh_count;
+        const glm::vec3 d = p - glm::vec3(q[0], q[1], q[2]);
         nearest = std::min(nearest, glm::dot(d, d));
       }
       if (nearest > far2) return r;
@@ -293,7 +350,7 @@ ProbeWalkResult ProbeTetWalk::walk(const glm::vec3& p, std::int32_t start, int c
       // Every way out leads back: p sits on faces the cells disagree about by round-off. The
       // visited cell closest to holding p, unless even that one is clearly off (then fall back).
       if (best_min < -1e-3f) return r;
-      r = finish(c, best_cell, best_w, p);
+      r = finish(hot_, best_cell, best_w, p);
       r.steps = steps;
       done = true;
       return r;
@@ -308,7 +365,7 @@ ProbeWalkResult ProbeTetWalk::brute_force(const glm::vec3& p) const {
   float best_min = -std::numeric_limits<float>::infinity();
   std::array<float, 4> best_w{};
   for (std::size_t i = 0; i < c.cells.size(); ++i) {
-    const std::array<float, 4> w = weights_at(c, static_cast<std::int32_t>(i), p);
+    const std::array<float, 4> w = weights_at(c, hot_, static_cast<std::int32_t>(i), p);
     if (any_nan(w)) continue;
     const float mn = min_weight(w);
     if (mn > best_min) {
@@ -318,7 +375,7 @@ ProbeWalkResult ProbeTetWalk::brute_force(const glm::vec3& p) const {
     }
   }
   if (best_cell == kNoCell) return no_cells(p);
-  return finish(c, best_cell, best_w, p);
+  return finish(hot_, best_cell, best_w, p);
 }
 
 ProbeWalkResult ProbeTetWalk::no_cells(const glm::vec3& p) const {
@@ -351,10 +408,10 @@ ProbeWalkResult ProbeTetWalk::locate(const glm::vec3& p, std::int32_t start,
   if (start >= 0 && start < static_cast<std::int64_t>(c.inner_count)) {
     // The common case inline (a cached tetrahedron that still holds p: about 7 entities in 8
     // moving 8 cm a frame): walk()'s first step without its bookkeeping, the same result.
-    const std::array<float, 4> w = weights_at(c, start, p);
+    const std::array<float, 4> w = weights_at(c, hot_, start, p);
     if (!any_nan(w) && min_weight(w) >= -kInsideTolerance) {
       if (path) path->push_back(start);
-      return finish(c, start, w, p);
+      return finish(hot_, start, w, p);
     }
   }
   int steps = 0;
@@ -380,22 +437,23 @@ ProbeWalkResult ProbeTetWalk::locate(const glm::vec3& p, std::int32_t start,
 ProbeWalkResult ProbeTetWalk::at(std::int32_t cell, const glm::vec3& p) const {
   const data::ProbeCloud& c = *cloud_;
   if (cell < 0 || static_cast<std::size_t>(cell) >= c.cells.size()) return no_cells(p);
-  return finish(c, cell, weights_at(c, cell, p), p);
+  return finish(hot_, cell, weights_at(c, hot_, cell, p), p);
 }
 
 namespace {
 // The probes' SH weighted into out (kIn: the cloud's coefficients per channel; kOut: out's):
 // accumulated in a local array of min(kIn, kOut) coefficients per channel (one contiguous block
 // when kIn == kOut: 27 floats for 3 bands), then stored, zero past the cloud's bands.
+// Probe k's SH at base + k * stride (the cloud's sh, or the walk's hot records).
 template <std::size_t kIn, std::size_t kOut>
-void accumulate(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
+void accumulate(const float* base, std::size_t stride, const std::array<std::int32_t, 4>& probes,
                 const std::array<float, 4>& weights, std::array<std::array<float, kOut>, 3>& out) {
   constexpr std::size_t kN = std::min<std::size_t>(kIn, kOut);
   std::array<float, 3 * kN> acc{};
   for (std::size_t k = 0; k < 4; ++k) {
     const float w = weights[k];
     if (probes[k] < 0 || w == 0.0f) continue;
-    const float* s = cloud.probe_sh(static_cast<std::size_t>(probes[k]));
+    const float* s = base + static_cast<std::size_t>(probes[k]) * stride;
     if constexpr (kN == kIn) {
       for (std::size_t i = 0; i < 3 * kN; ++i) acc[i] += w * s[i];
     } else {
@@ -408,23 +466,29 @@ void accumulate(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>
 }
 
 template <std::size_t kOut>  // out: sh::CoeffsRgb<bands>, kOut = bands^2
+void interpolate_at(int bands, const float* base, std::size_t stride,
+                    const std::array<std::int32_t, 4>& probes, const std::array<float, 4>& weights,
+                    std::array<std::array<float, kOut>, 3>& out) {
+  switch (bands) {  // the coefficient count as a constant: unrolled, vectorised loops
+    case 2:
+      accumulate<4>(base, stride, probes, weights, out);
+      break;
+    case 3:
+      accumulate<9>(base, stride, probes, weights, out);
+      break;
+    case 4:
+      accumulate<16>(base, stride, probes, weights, out);
+      break;
+    default:
+      throw std::invalid_argument("interpolate_probe_sh: the cloud has " + std::to_string(bands) +
+                                  " bands (2..4)");
+  }
+}
+template <std::size_t kOut>
 void interpolate_at(const data::ProbeCloud& cloud, const std::array<std::int32_t, 4>& probes,
                     const std::array<float, 4>& weights,
                     std::array<std::array<float, kOut>, 3>& out) {
-  switch (cloud.bands) {  // the coefficient count as a constant: unrolled, vectorised loops
-    case 2:
-      accumulate<4>(cloud, probes, weights, out);
-      break;
-    case 3:
-      accumulate<9>(cloud, probes, weights, out);
-      break;
-    case 4:
-      accumulate<16>(cloud, probes, weights, out);
-      break;
-    default:
-      throw std::invalid_argument("interpolate_probe_sh: the cloud has " +
-                                  std::to_string(cloud.bands) + " bands (2..4)");
-  }
+  interpolate_at(cloud.bands, cloud.sh.data(), cloud.coeffs_per_probe(), probes, weights, out);
 }
 }  // namespace
 
@@ -451,17 +515,17 @@ void interpolate_probe_sh(const data::ProbeCloud& cloud, const std::array<std::i
 
 ProbeSh ProbeTetWalk::interpolate(const ProbeWalkResult& r) const {
   ProbeSh out;
-  interpolate_at(*cloud_, r.probes, r.weights, out);
+  interpolate_at(cloud_->bands, hot_.probes, hot_.stride, r.probes, r.weights, out);
   return out;
 }
 void ProbeTetWalk::interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<2>& out) const {
-  interpolate_at(*cloud_, r.probes, r.weights, out);
+  interpolate_at(cloud_->bands, hot_.probes, hot_.stride, r.probes, r.weights, out);
 }
 void ProbeTetWalk::interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<3>& out) const {
-  interpolate_at(*cloud_, r.probes, r.weights, out);
+  interpolate_at(cloud_->bands, hot_.probes, hot_.stride, r.probes, r.weights, out);
 }
 void ProbeTetWalk::interpolate(const ProbeWalkResult& r, ProbeSh& out) const {
-  interpolate_at(*cloud_, r.probes, r.weights, out);
+  interpolate_at(cloud_->bands, hot_.probes, hot_.stride, r.probes, r.weights, out);
 }
 
 template <int kOutBands>
@@ -477,7 +541,7 @@ std::size_t ProbeTetWalk::batch(std::span<const glm::vec3> points, std::span<std
     if (i + kPrefetchProbes < points.size()) prefetch(cells[i + kPrefetchProbes], true);
     const ProbeWalkResult r = locate(points[i], cells[i]);
     cells[i] = r.cell;
-    interpolate_at(*cloud_, r.probes, r.weights, out[i]);
+    interpolate_at(cloud_->bands, hot_.probes, hot_.stride, r.probes, r.weights, out[i]);
     fallbacks += r.fallback ? 1 : 0;
   }
   return fallbacks;

@@ -61,6 +61,29 @@ using ProbeSh = sh::CoeffsRgb<kProbeShBands>;
 inline constexpr std::size_t kPrefetchCells = 16;
 inline constexpr std::size_t kPrefetchProbes = 8;
 
+namespace detail {
+// The walk's own copy of what an entity's locate + interpolation reads (ProbeTetWalk builds it
+// once per cloud): one 64-byte line per cell (an inner cell's transform columns 0..3, xyz each:
+// T^-1 and p3; the cell's four probes), and one record per probe (its 3 bands^2 SH floats, then
+// its position, padded to whole lines: 128 bytes at 3 bands), both aligned to lines and, when
+// large, to 2 MiB pages advised huge (madvise). The cloud's own arrays put a cell test on 2-4
+// lines (ProbeCell 32 bytes + mat4 64, 16-byte aligned) and a probe on 3-4 (108 bytes of SH
+// anywhere in the array, its position in another); each was also a TLB miss on 4 KiB pages.
+struct alignas(64) ProbeHotCell {
+  std::array<float, 12> transform{};       // columns 0..3 of the transform, xyz (inner cells)
+  std::array<std::int32_t, 4> vertices{};  // as ProbeCell::vertices
+};
+static_assert(sizeof(ProbeHotCell) == 64);
+struct ProbeHotData {
+  std::shared_ptr<const void> memory;  // owns both arrays
+  const ProbeHotCell* cells = nullptr;
+  const float* probes = nullptr;
+  std::size_t stride = 0;    // floats per probe record (a multiple of 16)
+  std::size_t sh_count = 0;  // SH floats per probe (3 bands^2); the position follows them
+  const float* probe(std::size_t k) const { return probes + k * stride; }
+};
+}  // namespace detail
+
 struct ProbeWalkSettings {
   int max_steps = 64;      // steps of the walk from the start cell before the fallback locate
   float far_cells = 4.0f;  // a start cell farther than this many grid cells: fallback at once
@@ -126,28 +149,30 @@ class ProbeTetWalk {
   void interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<2>& out) const;
   void interpolate(const ProbeWalkResult& r, sh::CoeffsRgb<3>& out) const;
   void interpolate(const ProbeWalkResult& r, ProbeSh& out) const;
-  // A hint to the cache: what locate() from `cell` reads first (the cell and its transform) and,
-  // with `probes`, its probes' SH (this reads the cell: issue the first hint a few points
-  // earlier). Batch loops call it some entities ahead, so the cached cells' memory arrives while
-  // earlier entities compute (each locate otherwise waits on its cell's first load). No effect
-  // on results; any value of `cell` is allowed (out of range: nothing).
-  void prefetch(std::int32_t cell, bool probes) const {
-    const data::ProbeCloud& c = *cloud_;
-    if (cell < 0 || static_cast<std::size_t>(cell) >= c.cells.size()) return;
-    const auto k = static_cast<std::size_t>(cell);
-    prefetch_bytes(&c.cells[k], sizeof(data::ProbeCell));
-    prefetch_bytes(&c.transforms[k], sizeof(glm::mat4));
-    if (!probes) return;
-    const std::size_t sh_bytes = c.coeffs_per_probe() * sizeof(float);
-    for (std::int32_t v : c.cells[k].vertices)
-      if (v >= 0) prefetch_bytes(c.probe_sh(static_cast<std::size_t>(v)), sh_bytes);
-  }
-  // Every cache line of [p, p + bytes): a record need not start on a line (a 3-band probe's
-  // 108 bytes of SH span 2 or 3 lines, a transform 1 or 2).
-  static void prefetch_bytes(const void* p, std::size_t bytes) {
-    const char* b = static_cast<const char*>(p);
-    for (std::size_t o = 0; o < bytes; o += 64) __builtin_prefetch(b + o);
-    __builtin_prefetch(b + bytes - 1);
+  // A hint to the cache: what locate() from `cell` reads first (the cell's hot record, one
+  // line, and its neighbours) or, with `probes`, its probes' records (SH and position; this
+  // reads the cell's record: issue the first hint a few points earlier). Batch loops call it some
+  // entities ahead, so the cached cells' memory arrives while earlier entities compute (each locate
+  // otherwise waits on its cell's first load). No effect on results; any value of `cell` is allowed
+  // (out of range: nothing).
+  // Always inlined: GCC 12 finds an out-of-line prefetch() free of side effects (it only reads
+  // memory and hints the cache), marks it pure and drops every call to it; the hints then
+  // never reach the caller's loop (none were in the binary before this).
+  [[gnu::always_inline]] void prefetch(std::int32_t cell, bool probes) const {
+    if (cell < 0 || static_cast<std::size_t>(cell) >= cell_count_) return;
+    const detail::ProbeHotCell& h = hot_.cells[static_cast<std::size_t>(cell)];
+    if (!probes) {
+      __builtin_prefetch(&h);  // one line
+      // The neighbours, which a step reads (about one entity in eight moving 8 cm a frame).
+      __builtin_prefetch(&cloud_->cells[static_cast<std::size_t>(cell)].neighbours);
+      return;
+    }
+    const std::size_t bytes = (hot_.sh_count + 3) * sizeof(float);
+    for (std::int32_t v : h.vertices) {
+      if (v < 0) continue;
+      const char* b = reinterpret_cast<const char*>(hot_.probe(static_cast<std::size_t>(v)));
+      for (std::size_t o = 0; o < bytes; o += 64) __builtin_prefetch(b + o);  // whole lines
+    }
   }
 
   // locate + interpolate for many points: cells[i] is the start on entry and the found cell on
@@ -174,6 +199,8 @@ class ProbeTetWalk {
   std::shared_ptr<const data::ProbeCloud> cloud_;
   ProbeWalkSettings settings_;
   ProbeCellGrid grid_;
+  detail::ProbeHotData hot_;
+  std::size_t cell_count_ = 0;
 };
 
 // The SH of `probes` weighted by `weights` (probe -1 or weight 0 skipped), 4 bands zero-padded.
