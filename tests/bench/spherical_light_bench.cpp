@@ -311,6 +311,9 @@ constexpr double kViewOps = 45;
 // Per emitter: eq. 18 (to_local 9, normalise 6, basis, 3 x (N ZH scales + C FMAs)) and the cap
 // integral (about 20).
 constexpr double kEmitterOps = 9 + 6 + kBasis + 3 * (N + kC) + 20;
+// Per far SL at a receiver (shade(clusters)): difference 3, dot 3, d^2 3, s^2 1, sqrt x2, the
+// min_sin fade 6, the product and 3 FMAs.
+constexpr double kFarOps = 22;
 // Per overlap test: one dot and two compares (no acos: the floor compares cosines).
 constexpr double kPairOps = 4;
 // add_log_visibility<4>: as blocker_bench.cpp's add_log_flops(4).
@@ -328,7 +331,7 @@ double blocked_ops() {
 double gather_ops(const sl::SphereLightGather<N>::Counts& c) {
   return static_cast<double>(c.lights) * kViewOps + static_cast<double>(c.emitters) * kEmitterOps +
          static_cast<double>(c.pairs) * kPairOps + static_cast<double>(c.logs) * kLogOps +
-         static_cast<double>(c.blocked) * blocked_ops();
+         static_cast<double>(c.blocked) * blocked_ops() + static_cast<double>(c.far) * kFarOps;
 }
 
 // Pass 1 per object: per sample point the blockers' log sum (views, adds) and shade (exp,
@@ -397,25 +400,41 @@ const Reference& reference(const std::string& name) {
   return cache.emplace(name, std::move(r)).first->second;
 }
 
-const Analysis& analyse(const std::string& name, const std::string& blocking, float min_sin) {
+const sl::SlReceiverClusters& clusters(const std::string& name, float far_ratio) {
+  static std::map<std::pair<std::string, float>, sl::SlReceiverClusters> cache;
+  auto it = cache.find({name, far_ratio});
+  if (it != cache.end()) return it->second;
+  sl::SlClusterSettings cs;
+  cs.far_ratio = far_ratio;
+  const Scene& s = scene(name);
+  return cache.emplace(std::pair(name, far_ratio), sl::cluster_receivers(s.points, s.normals, cs))
+      .first->second;
+}
+
+const Analysis& analyse(const ps::FrameCaseInfo& c) {
   static std::map<std::string, Analysis> cache;
-  const std::string key = name + "/" + blocking + "/" + std::to_string(min_sin);
+  const std::string& name = c.scene;
+  const std::string key = c.key;
   auto it = cache.find(key);
   if (it != cache.end()) return it->second;
   const Scene& s = scene(name);
-  sl::SphereLightGather<N> gather(settings_for(blocking, min_sin));
+  sl::SphereLightGather<N> gather(settings_for(c.blocking, c.min_sin));
   gather.set_lights(lit(name).lights);
   Analysis a;
   a.receivers = static_cast<double>(s.points.size());
-  for (std::size_t i = 0; i < s.points.size(); ++i)
-    gather.irradiance(s.points[i], s.normals[i], &a.counts);
+  std::vector<glm::vec3> all(s.points.size());
+  if (c.method == "clusters") {
+    gather.shade(clusters(name, c.far_ratio), all, &a.counts);
+  } else {
+    for (std::size_t i = 0; i < s.points.size(); ++i)
+      all[i] = gather.irradiance(s.points[i], s.normals[i], &a.counts);
+  }
   a.ops = gather_ops(a.counts);
   const Reference& r = reference(name);
   double diff2 = 0, ref2 = 0, se2 = 0, max_diff = 0;
   for (std::size_t k = 0; k < r.index.size(); ++k) {
     const std::size_t i = r.index[k];
-    const glm::vec3 e = gather.irradiance(s.points[i], s.normals[i]);
-    const glm::vec3 d = e - r.estimate[k].mean;
+    const glm::vec3 d = all[i] - r.estimate[k].mean;
     diff2 += glm::dot(d, d);
     ref2 += glm::dot(r.estimate[k].mean, r.estimate[k].mean);
     se2 += glm::dot(r.estimate[k].std_error, r.estimate[k].std_error);
@@ -487,16 +506,25 @@ void BM_Update(benchmark::State& state) {
   state.counters["lights"] = static_cast<double>(s.lights);
 }
 
-void BM_Frame(benchmark::State& state, std::string name, std::string blocking, float min_sin) {
+void BM_Frame(benchmark::State& state, ps::FrameCaseInfo c) {
+  const std::string& name = c.scene;
   const Scene& s = scene(name);
   const Lit& l = lit(name);
-  sl::SphereLightGather<N> gather(settings_for(blocking, min_sin));
+  sl::SphereLightGather<N> gather(settings_for(c.blocking, c.min_sin));
+  const sl::SlReceiverClusters* rc =
+      c.method == "clusters" ? &clusters(name, c.far_ratio) : nullptr;
   tbb::task_arena arena(kThreads);
   std::vector<glm::vec3> out(s.points.size());
   const std::span<const glm::vec3> points(s.points), normals(s.normals);
   const std::span<glm::vec3> irradiance(out);
   for (auto _ : state) {
     gather.set_lights(l.lights);
+    if (rc) {
+      arena.execute([&] { gather.shade(*rc, irradiance); });
+      benchmark::DoNotOptimize(out.data());
+      benchmark::ClobberMemory();
+      continue;
+    }
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), kBlock),
                         [&](const tbb::blocked_range<std::size_t>& r) {
@@ -508,7 +536,7 @@ void BM_Frame(benchmark::State& state, std::string name, std::string blocking, f
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  const Analysis& a = analyse(name, blocking, min_sin);
+  const Analysis& a = analyse(c);
   const double r = a.receivers;
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(r));
   state.counters["receivers"] = r;
@@ -519,6 +547,7 @@ void BM_Frame(benchmark::State& state, std::string name, std::string blocking, f
   state.counters["pairs_per_receiver"] = static_cast<double>(a.counts.pairs) / r;
   state.counters["logs_per_receiver"] = static_cast<double>(a.counts.logs) / r;
   state.counters["exponentials_per_receiver"] = static_cast<double>(a.counts.exponentials) / r;
+  state.counters["far_per_receiver"] = static_cast<double>(a.counts.far) / r;
   state.counters["accuracy_receivers"] = a.accuracy_receivers;
   if (a.rel_rms) {
     state.counters["rel_rms_vs_reference"] = *a.rel_rms;
@@ -533,18 +562,34 @@ std::string min_sin_text(float v) {
   return buf;
 }
 
-std::string frame_key(const std::string& scene, const std::string& blocking) {
-  return "BM_Frame/" + scene + "/" + blocking;
+std::string frame_key(const std::string& scene, const std::string& blocking,
+                      const std::string& method) {
+  return "BM_Frame/" + scene + "/" + blocking + "/" + method;
 }
-std::string sweep_key(const std::string& blocking, float min_sin) {
-  return "BM_Frame/objects:64/" + blocking + "/min_sin:" + min_sin_text(min_sin);
+std::string sweep_key(const std::string& blocking, const std::string& method, float min_sin,
+                      float far_ratio) {
+  std::string k = "BM_Frame/objects:64/" + blocking + "/" + method + "/min_sin:";
+  k += min_sin_text(min_sin);
+  if (method == "clusters") k += "/far:" + min_sin_text(far_ratio);
+  return k;
 }
 std::string per_light_key(const std::string& blocking, float min_sin) {
   return "BM_PerLight/" + blocking + "/min_sin:" + min_sin_text(min_sin);
 }
 
 const char* const kBlockings[] = {"per_sphere", "per_object"};
-const float kSweepMinSin[] = {0.0f, 0.02f, 0.1f, 0.2f};  // the frames: the default 0.05
+constexpr float kFarRatio = sl::SlClusterSettings{}.far_ratio;
+// The sweep (objects:64, besides the frames' default min_sin and far_ratio): per receiver at
+// min_sin 0 (every SL: the baseline) and 0.02, 0.1; clusters at far_ratio 0.1, 0.5 and min_sin
+// 0.02, 0.1.
+struct SweepCase {
+  const char* method;
+  float min_sin, far_ratio;
+};
+constexpr SweepCase kSweep[] = {{"receivers", 0.0f, 0},       {"receivers", 0.02f, 0},
+                                {"receivers", 0.1f, 0},       {"clusters", 0.05f, 0.1f},
+                                {"clusters", 0.05f, 0.5f},    {"clusters", 0.02f, kFarRatio},
+                                {"clusters", 0.1f, kFarRatio}};
 
 std::string fmt(const char* f, double v) {
   char buf[64];
@@ -570,7 +615,7 @@ void register_benchmarks() {
       ->Arg(1)
       ->Arg(kThreads);
   for (const ps::FrameCaseInfo& c : ps::frame_cases()) {
-    pb::add(c.key, c.kind == "frame" ? frame : sweep, BM_Frame, c.scene, c.blocking, c.min_sin);
+    pb::add(c.key, c.kind == "frame" ? frame : sweep, BM_Frame, c);
   }
 }
 
@@ -632,15 +677,20 @@ pb::Summary summarize(const pb::Results& r, const ps::Outputs& out) {
               " (reference noise " +
               fmt("%.2g%%", 100 * r.counter(c.key, "reference_rel_std_error").value_or(NAN)) + ")";
     std::optional<double> baseline;
-    if (c.kind == "frame" && c.blocking == "per_object") {
-      baseline = ms(frame_key(c.scene, "per_sphere"));
+    if (c.kind == "frame" && c.method == "clusters") {
+      baseline = ms(frame_key(c.scene, c.blocking, "receivers"));
+      note = "baseline: per receiver; " + note +
+             fmt(", %.1f far SLs per receiver", r.counter(c.key, "far_per_receiver").value_or(NAN));
+    } else if (c.kind == "frame" && c.blocking == "per_object") {
+      baseline = ms(frame_key(c.scene, "per_sphere", c.method));
       note = "baseline: per sphere; " + note;
-    } else if (c.kind == "sweep" && c.min_sin > 0) {
-      baseline = ms(sweep_key(c.blocking, 0.0f));
-      note = "baseline: min_sin 0; " + note;
+    } else if (c.kind == "sweep" && !(c.method == "receivers" && c.min_sin == 0)) {
+      baseline = ms(sweep_key(c.blocking, "receivers", 0.0f, 0));
+      note = "baseline: per receiver, min_sin 0; " + note;
     }
-    const std::string name = std::string(c.kind == "frame" ? "frame " : "sweep ") + c.scene + " " +
-                             c.blocking + ", min_sin " + min_sin_text(c.min_sin) + ", 2 threads";
+    std::string name = std::string(c.kind == "frame" ? "frame " : "sweep ") + c.scene + " " +
+                       c.blocking + " " + c.method + ", min_sin " + min_sin_text(c.min_sin);
+    if (c.method == "clusters") name += ", far_ratio " + min_sin_text(c.far_ratio);
     add_row(s, name, "ms", ms(c.key), baseline,
             c.goal_ms ? pb::Goal::value_at_most(*c.goal_ms) : pb::Goal::none(), floor, note);
   }
@@ -656,14 +706,17 @@ std::vector<FrameCaseInfo> frame_cases() {
   std::vector<FrameCaseInfo> out;
   for (const char* sc : {"squirrel:14", "objects:64"}) {
     const bool squirrel = std::string(sc) == "squirrel:14";
-    for (const char* b : kBlockings)
-      out.push_back({frame_key(sc, b), "frame", sc, b, kDefaultMinSin,
-                     squirrel ? 21'000.0 : 100'000.0, squirrel ? 14.0 : 64.0,
-                     squirrel ? kGoalSquirrelMs : kGoalObjectsMs});
+    for (const char* m : {"receivers", "clusters"})
+      for (const char* b : kBlockings)
+        out.push_back({frame_key(sc, b, m), "frame", sc, b, m, kDefaultMinSin,
+                       std::string(m) == "clusters" ? kFarRatio : 0.0f,
+                       squirrel ? 21'000.0 : 100'000.0, squirrel ? 14.0 : 64.0,
+                       squirrel ? kGoalSquirrelMs : kGoalObjectsMs});
   }
   for (const char* b : kBlockings)
-    for (float m : kSweepMinSin)
-      out.push_back({sweep_key(b, m), "sweep", "objects:64", b, m, 100'000.0, 64.0, std::nullopt});
+    for (const SweepCase& w : kSweep)
+      out.push_back({sweep_key(b, w.method, w.min_sin, w.far_ratio), "sweep", "objects:64", b,
+                     w.method, w.min_sin, w.far_ratio, 100'000.0, 64.0, std::nullopt});
   return out;
 }
 

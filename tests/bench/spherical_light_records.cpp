@@ -32,7 +32,7 @@ constexpr double kErrorSlack = 1.1;  // ringed: fastest within 10% of the mode's
 
 struct Record {
   FrameCaseInfo c;
-  std::optional<double> ms, floor_ms, rel_rms, max_rel, ref_se, views, logs, exps, pairs;
+  std::optional<double> ms, floor_ms, rel_rms, max_rel, ref_se, views, logs, exps, pairs, far;
 };
 
 std::vector<Record> collect(const Results& r, double ns_per_fma) {
@@ -50,6 +50,7 @@ std::vector<Record> collect(const Results& r, double ns_per_fma) {
     rec.logs = r.counter(c.key, "logs_per_receiver");
     rec.exps = r.counter(c.key, "exponentials_per_receiver");
     rec.pairs = r.counter(c.key, "pairs_per_receiver");
+    rec.far = r.counter(c.key, "far_per_receiver");
     out.push_back(rec);
   }
   return out;
@@ -102,9 +103,11 @@ std::string records_json(const std::vector<Record>& records,
     const Record& r = records[i];
     o << (i ? ",\n" : "\n") << "    {\"case\": " << jstr(r.c.key)
       << ", \"kind\": " << jstr(r.c.kind) << ", \"scene\": " << jstr(r.c.scene)
-      << ", \"method\": " << jstr(r.c.blocking)
+      << ", \"method\": " << jstr(r.c.blocking + " " + r.c.method)
       << ", \"params\": {\"bands\": 4, \"min_sin\": " << bench_json::compact(r.c.min_sin)
-      << ", \"blocking\": " << jstr(r.c.blocking) << "}"
+      << ", \"blocking\": " << jstr(r.c.blocking)
+      << ", \"clusters\": " << (r.c.method == "clusters" ? "true" : "false")
+      << ", \"far_ratio\": " << bench_json::compact(r.c.far_ratio) << "}"
       << ", \"size\": " << jnum(r.c.receivers) << ", \"receivers\": " << jnum(r.c.receivers)
       << ", \"lights\": " << jnum(r.c.lights) << ", \"ms\": " << jnum(r.ms)
       << ", \"floor_ms\": " << jnum(r.floor_ms)
@@ -118,7 +121,8 @@ std::string records_json(const std::vector<Record>& records,
       << ", \"pairs_per_receiver\": " << jnum(r.pairs)
       << ", \"logs_per_receiver\": " << jnum(r.logs)
       << ", \"exponentials_per_receiver\": " << jnum(r.exps)
-      << ", \"rel_rms_error\": " << jnum(r.rel_rms) << ", \"max_rel_error\": " << jnum(r.max_rel)
+      << ", \"far_per_receiver\": " << jnum(r.far) << ", \"rel_rms_error\": " << jnum(r.rel_rms)
+      << ", \"max_rel_error\": " << jnum(r.max_rel)
       << ", \"reference_rel_std_error\": " << jnum(r.ref_se) << "}";
   }
   o << "\n  ]\n}\n";
@@ -132,9 +136,12 @@ std::string chart(const std::vector<Record>& records,
     if (!on_chart(r)) continue;
     std::string label("s");  // not "s" + ...: GCC 12's -Wrestrict false positive
     label += bench_json::compact(r.c.min_sin);
+    if (r.c.method == "clusters") label += " f" + bench_json::compact(r.c.far_ratio);
+    std::string series(r.c.blocking == "per_sphere" ? "per sphere" : "per object");
+    series += r.c.method == "clusters" ? ", clusters" : ", per receiver";
     pts.push_back({.ms = *r.ms,
                    .error_percent = *r.rel_rms * 100,
-                   .series = r.c.blocking == "per_sphere" ? "per sphere" : "per object",
+                   .series = series,
                    .label = label,
                    .key = r.c.key,
                    .front = r.c.blocking});

@@ -5,6 +5,9 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "penumbra/sh/exp_log.h"
@@ -25,11 +28,31 @@ float smoothstep01(float x) {
 // One SL as the receiver sees it (after the plane rule).
 struct View {
   blocker_accumulation::BlockerView v;
-  float angle;  // asin(sin_angle)
-  float key0;   // order: object distance (kPerObject) or 0
-  float key1;   // centre distance
+  float cos_angle;  // sqrt(1 - sin_angle^2)
+  float angle;      // asin(sin_angle), computed when first needed (< 0: not yet)
+  float key0;       // order: object distance (kPerObject) or 0
+  float key1;       // centre distance
   std::uint32_t light;
 };
+
+float angle_of(View& v) {
+  if (v.angle < 0) v.angle = std::asin(std::min(v.v.sin_angle, 1.0f));
+  return v.angle;
+}
+
+// sum_l k_l z_l P_l(x): the dot of two zonal functions turned to directions at cosine x
+// (addition theorem with rotate_zh's sqrt(4 pi / (2l + 1)) normalisation).
+template <int N>
+float zonal_dot(const sh::Zonal<N>& k, const sh::Zonal<N>& z, float x) {
+  float p0 = 1, p1 = x, sum = k[0] * z[0];
+  if (N > 1) sum += k[1] * z[1] * x;
+  for (int l = 2; l < N; ++l) {
+    const float p2 = ((2 * l - 1) * x * p1 - (l - 1) * p0) / static_cast<float>(l);
+    sum += k[l] * z[l] * p2;
+    p0 = p1, p1 = p2;
+  }
+  return sum;
+}
 
 }  // namespace
 
@@ -37,7 +60,39 @@ template <int N>
 SphereLightGather<N>::SphereLightGather(const SphereLightSettings& settings)
     : settings_(settings),
       log_eps_(std::log(std::max(settings.blocker.epsilon, 1e-6f))),
-      clamped_cosine_(sh::zh_clamped_cosine<N>()) {}
+      clamped_cosine_(sh::zh_clamped_cosine<N>()) {
+  cap_exp_.resize((kExpSin + 1) * (kExpWeight + 1));
+  for (int i = 0; i <= kExpSin; ++i) {
+    for (int j = 0; j <= kExpWeight; ++j) {
+      blocker_accumulation::BlockerView v;
+      v.sin_angle = std::min(static_cast<float>(i) / kExpSin, 1.0f);
+      v.weight = static_cast<float>(j) / kExpWeight;
+      sh::Coeffs<N> g{};
+      blocker_accumulation::add_log_visibility<N>(v, log_eps_, g);
+      const sh::Coeffs<N> e = sh::exp_visibility<N>(g);
+      sh::Zonal<N>& z = cap_exp_[i * (kExpWeight + 1) + j];
+      for (int l = 0; l < N; ++l) z[l] = e[sh::index(l, 0)];  // at +z: f_l0 = z_l
+    }
+  }
+}
+
+template <int N>
+sh::Zonal<N> SphereLightGather<N>::cap_exp_zonal(float sin_angle, float weight) const {
+  const float x = std::clamp(sin_angle, 0.0f, 1.0f) * kExpSin;
+  const float y = std::clamp(weight, 0.0f, 1.0f) * kExpWeight;
+  const int i = std::min(static_cast<int>(x), kExpSin - 1);
+  const int j = std::min(static_cast<int>(y), kExpWeight - 1);
+  const float fx = x - static_cast<float>(i), fy = y - static_cast<float>(j);
+  const sh::Zonal<N>* row0 = &cap_exp_[i * (kExpWeight + 1) + j];
+  const sh::Zonal<N>* row1 = row0 + (kExpWeight + 1);
+  sh::Zonal<N> z;
+  for (int l = 0; l < N; ++l) {
+    const float a = row0[0][l] + fy * (row0[1][l] - row0[0][l]);
+    const float b = row1[0][l] + fy * (row1[1][l] - row1[0][l]);
+    z[l] = a + fx * (b - a);
+  }
+  return z;
+}
 
 template <int N>
 void SphereLightGather<N>::set_lights(std::vector<SphereLightSource<N>> lights) {
@@ -62,6 +117,20 @@ void SphereLightGather<N>::set_lights(std::vector<SphereLightSource<N>> lights) 
   for (std::uint32_t o = 0; o < objects; ++o) {
     if (members[o] > 0) object_centres_[o] /= static_cast<float>(members[o]);
   }
+  object_radius_.assign(objects, 0.0f);
+  object_first_.assign(objects + 1, 0);
+  for (const auto& l : lights) {
+    object_radius_[l.object] = std::max(
+        object_radius_[l.object], glm::length(l.centre - object_centres_[l.object]) + l.radius);
+    ++object_first_[l.object + 1];
+  }
+  for (std::uint32_t o = 0; o < objects; ++o) {
+    object_first_[o + 1] += object_first_[o];
+    object_radius_[o] *= 1.0001f;  // rounding: the bound must contain its SLs
+  }
+  object_lights_.assign(lights.size(), 0);
+  std::vector<std::uint32_t> next(object_first_.begin(), object_first_.end() - 1);
+  for (std::uint32_t i = 0; i < lights.size(); ++i) object_lights_[next[lights[i].object]++] = i;
   lights_ = std::move(lights);
 }
 
@@ -72,25 +141,47 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
     throw std::invalid_argument(
         "SphereLightGather::irradiance: non-finite receiver point or normal");
   }
+  return evaluate(p, n, counts, nullptr, nullptr, settings_.blocker.min_sin);
+}
+
+template <int N>
+glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n, Counts* counts,
+                                         const std::uint8_t* skip, glm::vec3* ratio_out,
+                                         float min_sin) const {
+  blocker_accumulation::SphereBlockerSettings blocker = settings_.blocker;
+  blocker.min_sin = min_sin;
   constexpr int kStack = 128;
   View stack[kStack];
-  std::vector<View> heap;
+  thread_local std::vector<View> heap;
   View* views = stack;
   if (lights_.size() > kStack) heap.resize(lights_.size()), views = heap.data();
   int count = 0;
   const bool per_object = settings_.blocking == SlBlocking::kPerObject;
-  for (std::uint32_t i = 0; i < lights_.size(); ++i) {
-    const SphereLightSource<N>& l = lights_[i];
-    const blocker_accumulation::BlockerView v =
-        blocker_accumulation::view_blocker(p, n, l.centre, l.radius, settings_.blocker);
-    if (!(v.weight > 0)) continue;
-    const float d = glm::length(l.centre - p);
-    const float key0 = per_object ? glm::length(object_centres_[l.object] - p) : 0.0f;
-    views[count++] = {v, std::asin(std::min(v.sin_angle, 1.0f)), key0, d, i};
+  std::size_t looked = 0;
+  for (std::uint32_t o = 0; o + 1 < object_first_.size(); ++o) {
+    // The object's bound first (header: ours): exact when p is outside it.
+    const glm::vec3 to_bound = object_centres_[o] - p;
+    const float bound_d2 = glm::dot(to_bound, to_bound), bound_r = object_radius_[o];
+    if (bound_d2 > bound_r * bound_r) {
+      if (glm::dot(n, to_bound) + bound_r <= 0) continue;
+      if (min_sin > 0 && bound_r * bound_r <= min_sin * min_sin * bound_d2) continue;
+    }
+    const float key0 = per_object ? std::sqrt(bound_d2) : 0.0f;
+    for (std::uint32_t k = object_first_[o]; k < object_first_[o + 1]; ++k) {
+      const std::uint32_t i = object_lights_[k];
+      const SphereLightSource<N>& l = lights_[i];
+      ++looked;
+      const blocker_accumulation::BlockerView v =
+          blocker_accumulation::view_blocker(p, n, l.centre, l.radius, blocker);
+      if (!(v.weight > 0)) continue;
+      const float d = glm::length(l.centre - p);
+      const float s = std::min(v.sin_angle, 1.0f);
+      views[count++] = {v, std::sqrt(std::max(0.0f, 1 - s * s)), -1.0f, key0, d, i};
+    }
   }
   if (counts) {
     counts->views += static_cast<std::size_t>(count);
-    counts->lights += lights_.size();
+    counts->lights += looked;
   }
   // [Guerrero08] sec. 7.2 / 8.3: front to back, by sphere or by object then sphere.
   std::sort(views, views + count, [](const View& a, const View& b) {
@@ -100,60 +191,78 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
   glm::vec3 total(0.0f);
   bool have_rho = false;
   sh::Coeffs<N> rho{};
+  const float sqrt_4pi = std::sqrt(4 * 3.14159265358979f);
+  const float scale = 1.0f / (1.0f - std::min(settings_.blocker.epsilon, 0.999f));
   for (int i = 0; i < count; ++i) {
-    const View& e = views[i];
+    View& e = views[i];
     const SphereLightSource<N>& li = lights_[e.light];
-    if (!emits_[e.light]) continue;
+    if (!emits_[e.light] || (skip && skip[e.light])) continue;
     if (counts) ++counts->emitters;
     // [Guerrero08] eq. 18, towards p in the SL's own frame (sec. 7.1).
     const glm::vec3 to_receiver = glm::normalize(li.to_local * -e.v.axis);
     const glm::vec3 radiance =
         glm::max(table_.average_radiance(li.radiance, e.v.sin_angle, to_receiver), glm::vec3(0.0f));
+    if (ratio_out) ratio_out[e.light] = glm::vec3(0.0f);  // seen here
     if (radiance.x <= 0 && radiance.y <= 0 && radiance.z <= 0) continue;
-    const float unblocked = cap_cosine_integral(e.v.sin_angle, glm::dot(n, e.v.axis));
+    const float cos_n = glm::dot(n, e.v.axis);
+    const float unblocked = cap_cosine_integral(e.v.sin_angle, cos_n);
     if (!(unblocked > 0)) continue;
 
     // Blockers in front whose caps overlap S_i's (header: ours), faded in over the overlap.
     sh::Coeffs<N> g{};
-    bool any = false;
+    int added = 0;
+    blocker_accumulation::BlockerView lone{};
     for (int j = 0; j < i; ++j) {
-      const View& b = views[j];
+      View& b = views[j];
       const SphereLightSource<N>& lj = lights_[b.light];
       if (!lj.blocks) continue;
       if (counts) ++counts->pairs;
+      // Overlap: the angle between the axes is below the sum of the half-angles, i.e. its cosine
+      // is above cos(a_i + a_j) (always when the sum passes pi).
+      const float cos_between = glm::dot(e.v.axis, b.v.axis);
+      const float cos_sum = e.cos_angle * b.cos_angle - e.v.sin_angle * b.v.sin_angle;
+      const bool wide = e.cos_angle * b.v.sin_angle + e.v.sin_angle * b.cos_angle < 0;  // sum > pi
+      if (!wide && !(cos_between > cos_sum)) continue;
       if (lj.object == li.object && glm::length(lj.centre - li.centre) < lj.radius + li.radius) {
         continue;  // [Guerrero08] sec. 6.2: intersecting SLs of one object
       }
-      const float between = std::acos(std::clamp(glm::dot(e.v.axis, b.v.axis), -1.0f, 1.0f));
-      const float overlap = e.angle + b.angle - between;
+      const float between = std::acos(std::clamp(cos_between, -1.0f, 1.0f));
+      const float overlap = angle_of(e) + angle_of(b) - between;
       if (!(overlap > 0)) continue;
       blocker_accumulation::BlockerView faded = b.v;
       faded.weight *= smoothstep01(overlap / (0.25f * std::max(b.angle, 1e-6f)));
       if (!(faded.weight > 0)) continue;
       blocker_accumulation::add_log_visibility<N>(faded, log_eps_, g);
       if (counts) ++counts->logs;
-      any = true;
+      lone = faded;
+      ++added;
     }
     float visibility = unblocked;
-    if (any) {
+    if (added > 0) {
       if (!have_rho) rho = sh::rotate_zh<N>(clamped_cosine_, n), have_rho = true;
-      sh::Coeffs<N> gi{};
       blocker_accumulation::BlockerView own = e.v;
       own.weight = 1;
-      blocker_accumulation::add_log_visibility<N>(own, log_eps_, gi);
-      sh::Coeffs<N> g_all;
-      for (int k = 0; k < N * N; ++k) g_all[k] = g[k] + gi[k];
-      // [Guerrero08] eq. 23-24, less what they give with nothing in front (header).
-      const sh::Coeffs<N> e_front = sh::exp_visibility<N>(g);
-      const sh::Coeffs<N> e_all = sh::exp_visibility<N>(g_all);
-      const sh::Coeffs<N> e_own = sh::exp_visibility<N>(gi);
-      sh::Coeffs<N> diff;
-      for (int k = 0; k < N * N; ++k) diff[k] = (e_front[k] - e_all[k]) - (-e_own[k]);
-      diff[0] -= std::sqrt(4 * 3.14159265358979f);  // the constant 1
-      const float scale = 1.0f / (1.0f - std::min(settings_.blocker.epsilon, 0.999f));
-      visibility = std::clamp(unblocked + scale * sh::dot<N>(rho, diff), 0.0f, unblocked);
-      if (counts) ++counts->blocked, counts->exponentials += 3, ++counts->logs;
+      // [Guerrero08] eq. 23-24, less what they give with nothing in front (header): exp(G_i)
+      // and, with one blocker, exp(G) from the table of lone caps.
+      const float own_term =
+          zonal_dot<N>(clamped_cosine_, cap_exp_zonal(e.v.sin_angle, 1.0f), cos_n);
+      float front_term;
+      if (added == 1) {
+        front_term = zonal_dot<N>(clamped_cosine_, cap_exp_zonal(lone.sin_angle, lone.weight),
+                                  glm::dot(n, lone.axis));
+      } else {
+        front_term = sh::dot<N>(rho, sh::exp_visibility<N>(g));
+      }
+      blocker_accumulation::add_log_visibility<N>(own, log_eps_, g);  // g = G + G_i
+      const float all_term = sh::dot<N>(rho, sh::exp_visibility<N>(g));
+      const float diff = front_term - all_term + own_term - clamped_cosine_[0] * sqrt_4pi;
+      visibility = std::clamp(unblocked + scale * diff, 0.0f, unblocked);
+      if (counts) {
+        ++counts->blocked, ++counts->logs;
+        counts->exponentials += added == 1 ? 1 : 2;
+      }
     }
+    if (ratio_out) ratio_out[e.light] = radiance * (visibility / unblocked);
     total += e.v.weight * radiance * visibility;  // eq. 14
   }
   return total;
@@ -169,6 +278,198 @@ void SphereLightGather<N>::shade(std::span<const glm::vec3> points,
   }
   for (std::size_t i = 0; i < points.size(); ++i)
     irradiance_out[i] = irradiance(points[i], normals[i]);
+}
+
+SlReceiverClusters cluster_receivers(std::span<const glm::vec3> points,
+                                     std::span<const glm::vec3> normals,
+                                     const SlClusterSettings& settings) {
+  if (normals.size() != points.size()) {
+    throw std::invalid_argument("cluster_receivers: points and normals differ in size");
+  }
+  if (!(settings.cell > 0) || settings.max_receivers < 1) {
+    throw std::invalid_argument("cluster_receivers: needs cell > 0 and max_receivers >= 1");
+  }
+  SlReceiverClusters c;
+  c.settings = settings;
+  // Key: the cell (21 bits per axis, wrapped) and the normal's dominant axis and sign.
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  for (std::uint32_t i = 0; i < points.size(); ++i) {
+    if (!finite(points[i]) || !finite(normals[i])) {
+      throw std::invalid_argument("cluster_receivers: receiver " + std::to_string(i) +
+                                  " has a non-finite point or normal");
+    }
+    const glm::vec3 q = glm::floor(points[i] / settings.cell);
+    const glm::vec3 a = glm::abs(normals[i]);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    const std::uint64_t side = normals[i][axis] < 0 ? 1 : 0;
+    auto bits = [](float v) {
+      return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) & 0x1fffff);
+    };
+    keyed[i] = {(bits(q.x) << 42 | bits(q.y) << 21 | bits(q.z)) << 3 |
+                    static_cast<std::uint64_t>(axis * 2) | side,
+                i};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  c.order.reserve(points.size());
+  c.first.push_back(0);
+  for (std::size_t k = 0; k < keyed.size(); ++k) {
+    const bool split = k > 0 && (keyed[k].first != keyed[k - 1].first ||
+                                 c.order.size() - c.first.back() >=
+                                     static_cast<std::size_t>(settings.max_receivers));
+    if (split) c.first.push_back(static_cast<std::uint32_t>(c.order.size()));
+    c.order.push_back(keyed[k].second);
+  }
+  if (!keyed.empty()) c.first.push_back(static_cast<std::uint32_t>(c.order.size()));
+  const std::size_t clusters = c.first.size() - 1;
+  c.points.resize(c.order.size());
+  c.normals.resize(c.order.size());
+  c.centre.assign(clusters, glm::vec3(0.0f));
+  c.normal.assign(clusters, glm::vec3(0.0f));
+  c.radius.assign(clusters, 0.0f);
+  c.planar.assign(clusters, 0);
+  c.thickness.assign(clusters, 0.0f);
+  c.spread.assign(clusters, 0.0f);
+  for (std::size_t k = 0; k < clusters; ++k) {
+    glm::vec3 sum_p(0.0f), sum_n(0.0f);
+    for (std::uint32_t j = c.first[k]; j < c.first[k + 1]; ++j) {
+      c.points[j] = points[c.order[j]];
+      c.normals[j] = glm::normalize(normals[c.order[j]]);
+      sum_p += c.points[j], sum_n += c.normals[j];
+    }
+    const float count = static_cast<float>(c.first[k + 1] - c.first[k]);
+    c.centre[k] = sum_p / count;
+    c.normal[k] = glm::length(sum_n) > 0 ? glm::normalize(sum_n) : glm::vec3(0, 0, 1);
+    float r = 0, min_cos = 1;
+    for (std::uint32_t j = c.first[k]; j < c.first[k + 1]; ++j) {
+      r = std::max(r, glm::length(c.points[j] - c.centre[k]));
+      min_cos = std::min(min_cos, glm::dot(c.normals[j], c.normal[k]));
+    }
+    float thick = 0;
+    for (std::uint32_t j = c.first[k]; j < c.first[k + 1]; ++j)
+      thick = std::max(thick, std::abs(glm::dot(c.normal[k], c.points[j] - c.centre[k])));
+    c.radius[k] = r * 1.0001f;
+    c.thickness[k] = thick * 1.0001f + 1e-6f;
+    c.spread[k] = std::sqrt(std::max(0.0f, 2 - 2 * min_cos)) + 1e-6f;
+    c.planar[k] = min_cos >= settings.normal_cos && thick <= 1e-3f * std::max(r, 1e-3f) + 1e-4f;
+  }
+  return c;
+}
+
+template <int N>
+void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std::size_t k,
+                                         std::span<glm::vec3> out, Counts* counts) const {
+  const std::uint32_t begin = clusters.first[k], end = clusters.first[k + 1];
+  const std::size_t lights = lights_.size();
+  const float min_sin = settings_.blocker.min_sin;
+  if (!clusters.planar[k] || lights == 0) {
+    for (std::uint32_t j = begin; j < end; ++j)
+      out[clusters.order[j]] =
+          evaluate(clusters.points[j], clusters.normals[j], counts, nullptr, nullptr, min_sin);
+    return;
+  }
+  // [Guerrero08] sec. 7.3, eq. 25-26 in spirit (header: ours): in a planar cluster the plane
+  // rule's shrunk sphere (sec. 6.2) is the same at every receiver; a far one carries the ratio
+  // L~ V~ / C measured at the cluster's centre, and every receiver multiplies it by its own exact
+  // cap integral C (the shrunk cap is wholly above the plane, so C = pi sin^2 cos beta).
+  const glm::vec3 centre = clusters.centre[k], normal = clusters.normal[k];
+  const float radius = clusters.radius[k];
+  thread_local std::vector<std::uint8_t> far;
+  thread_local std::vector<glm::vec3> ratio;
+  far.assign(lights, 0);
+  ratio.assign(lights, glm::vec3(-1.0f));
+  struct Shrunk {
+    glm::vec3 centre;
+    float radius, plane_weight;
+    bool far;
+  };
+  thread_local std::vector<Shrunk> shrunk;
+  shrunk.assign(lights, Shrunk{});
+  bool any_far = false;
+  for (std::size_t i = 0; i < lights; ++i) {
+    const SphereLightSource<N>& l = lights_[i];
+    if (!emits_[i] || !(l.radius > 0)) continue;
+    const float t = glm::dot(normal, l.centre - centre) + l.radius;  // sphere_blocker.cpp
+    if (!(t > 0)) continue;
+    const float r1 = std::min(l.radius, 0.5f * t);
+    const glm::vec3 c1 = l.centre + (l.radius - r1) * normal;
+    const float d1 = glm::length(c1 - centre);
+    // The shrunk cap touches or clears the centre's plane; every receiver's plane is within
+    // `vary` of it, so its own shrunk sphere differs by at most 1% of r1.
+    const float vary = clusters.thickness[k] + clusters.spread[k] * (d1 + radius);
+    const bool is_far =
+        r1 > 0 && radius <= clusters.settings.far_ratio * (d1 - r1) && vary <= 0.01f * r1;
+    shrunk[i] = {c1, r1, smoothstep01(t / (2 * l.radius)), is_far};
+    far[i] = is_far ? 1 : 0;
+    any_far = any_far || is_far;
+  }
+  // At the centre down to half min_sin: an SL its receivers see may be just below it there.
+  if (any_far) evaluate(centre, normal, counts, nullptr, ratio.data(), 0.5f * min_sin);
+  struct Far {
+    glm::vec3 centre;
+    float r2;
+    glm::vec3 ratio;  // L~ V~ / C x the plane rule's weight
+  };
+  thread_local std::vector<Far> far_list;
+  far_list.clear();
+  bool any_near = false;
+  for (std::size_t i = 0; i < lights; ++i) {
+    const SphereLightSource<N>& l = lights_[i];
+    if (!emits_[i] || !(l.radius > 0)) continue;
+    const glm::vec3 to = l.centre - centre;
+    const float d = glm::length(to);
+    // Culled at every receiver: wholly below all their planes, or smaller than min_sin.
+    const bool outside = d > radius + l.radius;
+    const bool below = glm::dot(normal, to) + l.radius + clusters.thickness[k] +
+                           clusters.spread[k] * (d + radius) <=
+                       0;
+    const bool small = min_sin > 0 && outside && l.radius <= min_sin * (d - radius);
+    if (outside && (below || small)) {
+      far[i] = 1;  // nothing to shade anywhere in the cluster
+      continue;
+    }
+    if (shrunk[i].far && ratio[i].x >= 0) {
+      far_list.push_back({shrunk[i].centre, shrunk[i].radius * shrunk[i].radius,
+                          shrunk[i].plane_weight * ratio[i]});
+    } else {
+      far[i] = 0;  // not seen at the centre (min_sin) or not far: exact at every receiver
+      any_near = true;
+    }
+  }
+  constexpr float kPi = 3.14159265358979f;
+  for (std::uint32_t j = begin; j < end; ++j) {
+    const glm::vec3 p = clusters.points[j], n = clusters.normals[j];
+    glm::vec3 e = any_near ? evaluate(p, n, counts, far.data(), nullptr, min_sin) : glm::vec3(0.0f);
+    for (const Far& f : far_list) {
+      const glm::vec3 to = f.centre - p;
+      const float d2 = glm::dot(to, to);
+      const float s2 = f.r2 / d2;
+      const float cos_d = glm::dot(n, to);  // |to| cos beta
+      float w = 1;
+      if (min_sin > 0) w = smoothstep01((std::sqrt(s2) - min_sin) / min_sin);
+      // pi sin^2 cos beta, the cap wholly above the plane (cap_cosine_integral's first case).
+      e += (w * kPi * s2 * cos_d / std::sqrt(d2)) * f.ratio;
+    }
+    if (counts) counts->far += far_list.size();
+    out[clusters.order[j]] = e;
+  }
+}
+
+template <int N>
+void SphereLightGather<N>::shade(const SlReceiverClusters& clusters,
+                                 std::span<glm::vec3> irradiance_out, Counts* counts) const {
+  if (irradiance_out.size() != clusters.order.size()) {
+    throw std::invalid_argument("SphereLightGather::shade: output and clusters differ in size");
+  }
+  const std::size_t count = clusters.first.empty() ? 0 : clusters.first.size() - 1;
+  if (counts) {
+    for (std::size_t k = 0; k < count; ++k) shade_cluster(clusters, k, irradiance_out, counts);
+    return;
+  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t k = r.begin(); k < r.end(); ++k)
+                        shade_cluster(clusters, k, irradiance_out, nullptr);
+                    });
 }
 
 template class SphereLightGather<3>;

@@ -28,6 +28,24 @@
 //    which is eq. 23-24 for an SL with blockers, scaled by 1 / (1 - eps) because an eps cap
 //    leaves eps of the light: (1 - eps^[cap]) = (1 - eps) [cap]. It is C_i when G = 0, so the
 //    fade above is continuous, and the exponentials are only paid where caps overlap.
+//  - a cap alone has its exponential from a table: exp of a zonal function is zonal and exp
+//    commutes with rotation, so exp(G_i) (always one cap) and exp(G) with one blocker in front
+//    are table rows (sin(angle) x weight, bilinear) dotted with the clamped cosine through
+//    Legendre polynomials; only exp(G + G_i), and exp(G) with two or more blockers, are SH
+//    exponentials;
+//  - objects are culled whole first: when p is outside the sphere bounding an object's SLs and
+//    that sphere is below p's tangent plane or smaller than min_sin, so is every SL in it (a
+//    sphere inside another subtends a smaller angle from outside both): exact;
+//  - overlap tests compare cosines (no acos); angles only for the overlapping pairs' fade;
+//  - receiver clusters (shade(clusters), [Guerrero08] sec. 7.3 and its reflection ratio, eq.
+//    25-26, in spirit): per planar cluster, an SL wholly above every receiver's plane and far
+//    (cluster radius <= far_ratio x its distance) is evaluated once at the cluster's centre, as
+//    the ratio L~ V~ / C of its light to its unblocked cap integral; each receiver multiplies
+//    that ratio by its own exact C (and min_sin fade). The other SLs go through the per-receiver
+//    path with the far ones still blocking. [Guerrero08] keeps V~ per receiver and swaps child
+//    SLs for a parent; ours keeps the SLs and shares L~ and the visibility ratio, so a far SL
+//    costs about 20 operations per receiver. Error: what L~ and the ratio change across the
+//    cluster, bounded by far_ratio (docs/spherical_lights.md measures it).
 //
 // Errors: set_lights throws std::invalid_argument naming the light (index) with a non-finite
 // centre or radiance, or a radius that is negative or not finite; a zero radius is no light.
@@ -68,6 +86,38 @@ struct SphereLightSettings {
   bool operator==(const SphereLightSettings&) const = default;
 };
 
+// Receivers grouped once for SphereLightGather::shade(clusters) (header: ours, after
+// [Guerrero08] sec. 7.3): binned by a cell of `cell` metres and the normal's dominant axis and
+// sign, at most max_receivers each. A cluster is planar when its points lie in one plane and its
+// normals within normal_cos of their mean (ground patches, mesh faces); only planar clusters
+// take the far path. Fixed receivers (terrain texels) cluster once; receivers on a moving object
+// cluster in its frame.
+struct SlClusterSettings {
+  float cell = 1.5f;
+  int max_receivers = 256;
+  float far_ratio = 0.25f;  // an SL is far when cluster radius <= far_ratio x (distance - radius)
+  float normal_cos = 0.99999f;  // planar: every normal within this cosine of the mean
+};
+
+struct SlReceiverClusters {
+  SlClusterSettings settings;
+  std::vector<std::uint32_t> order;        // receiver indices, cluster by cluster
+  std::vector<std::uint32_t> first;        // per cluster its first entry of `order`, then the end
+  std::vector<glm::vec3> points, normals;  // in `order` (normals unit)
+  std::vector<glm::vec3> centre, normal;   // per cluster: mean point, mean normal (unit)
+  std::vector<float> radius;               // per cluster: bounds its points around `centre`
+  std::vector<float> thickness;            // per cluster: max |normal . (p - centre)|
+  std::vector<float> spread;               // per cluster: max |n - normal| over its receivers
+  std::vector<std::uint8_t> planar;
+  std::size_t size() const { return first.empty() ? 0 : first.size() - 1; }
+};
+
+// Errors: std::invalid_argument for sizes that differ, a non-finite point or normal (named by
+// index), cell <= 0 or max_receivers < 1.
+SlReceiverClusters cluster_receivers(std::span<const glm::vec3> points,
+                                     std::span<const glm::vec3> normals,
+                                     const SlClusterSettings& settings = {});
+
 template <int N>
 class SphereLightGather {
  public:
@@ -86,11 +136,17 @@ class SphereLightGather {
     std::size_t lights = 0;        // SLs looked at (plane rule or bound)
     std::size_t pairs = 0;         // (emitter, SL in front) overlap tests
     std::size_t logs = 0;          // log-SH caps added (add_log_visibility)
+    std::size_t far = 0;           // far SLs shaded by their cluster's ratio (shade(clusters))
   };
   // Irradiance (W/m^2 per channel) at p with unit normal n from every SL; `counts` gains the cost.
   glm::vec3 irradiance(const glm::vec3& p, const glm::vec3& n, Counts* counts = nullptr) const;
   void shade(std::span<const glm::vec3> points, std::span<const glm::vec3> normals,
              std::span<glm::vec3> irradiance) const;
+  // Every receiver of `clusters`, irradiance[i] for receiver i (the original order): far SLs by
+  // their ratio at the cluster's centre, the rest as irradiance(). Parallel over clusters in the
+  // caller's TBB arena; sequential when `counts` is given.
+  void shade(const SlReceiverClusters& clusters, std::span<glm::vec3> irradiance,
+             Counts* counts = nullptr) const;
 
   const AverageRadianceTable<N>& table() const { return table_; }
 
@@ -102,6 +158,22 @@ class SphereLightGather {
   std::vector<SphereLightSource<N>> lights_;
   std::vector<glm::vec3> object_centres_;  // per object id: the mean of its SLs' centres
   std::vector<std::uint8_t> emits_;        // per light: radiance not all zero
+  // Per object id: a sphere around the mean bounding all its SLs, and its SLs' indices
+  // [object_first_[o], object_first_[o + 1]) in object_lights_ (the bound's cull, header: ours).
+  std::vector<float> object_radius_;
+  std::vector<std::uint32_t> object_first_, object_lights_;
+  // exp of one cap, zonal about +z, by sin(angle) (rows) and weight (columns); exp commutes with
+  // rotation, so a lone cap's exponential is a rotated row (header: ours).
+  static constexpr int kExpSin = 128, kExpWeight = 16;
+  std::vector<sh::Zonal<N>> cap_exp_;  // (kExpSin + 1) x (kExpWeight + 1)
+  sh::Zonal<N> cap_exp_zonal(float sin_angle, float weight) const;
+  // irradiance() without the argument checks, at `min_sin`; SLs with skip[i] set are blockers
+  // only, and ratio_out[i] (when given) receives L~ V~ / C of every SL seen as an emitter (0
+  // when dark).
+  glm::vec3 evaluate(const glm::vec3& p, const glm::vec3& n, Counts* counts,
+                     const std::uint8_t* skip, glm::vec3* ratio_out, float min_sin) const;
+  void shade_cluster(const SlReceiverClusters& clusters, std::size_t k,
+                     std::span<glm::vec3> irradiance, Counts* counts) const;
 };
 
 }  // namespace penumbra::spherical_lights
