@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -183,6 +184,95 @@ TEST(SphereLightGather, BadInputIsNamed) {
   EXPECT_THROW(g.set_lights({uniform_light(glm::vec3(0), -1.0f, 1.0f, 0)}), std::invalid_argument);
   g.set_lights({uniform_light(glm::vec3(0, 0, 4), 1.0f, 3.0f, 0)});
   EXPECT_THROW(g.irradiance(glm::vec3(NAN), glm::vec3(0, 0, 1)), std::invalid_argument);
+}
+
+// Ground receivers around two objects of three SLs each, one SL poking through the ground.
+struct ClusterScene {
+  std::vector<SphereLightSource<4>> lights;
+  std::vector<glm::vec3> points, normals;
+};
+
+ClusterScene cluster_scene() {
+  ClusterScene s;
+  s.lights = {uniform_light(glm::vec3(0, 0, 0.6f), 0.8f, 2.0f, 0),
+              uniform_light(glm::vec3(0, 0, 1.6f), 0.7f, 1.0f, 0),
+              uniform_light(glm::vec3(0.8f, 0, 1.0f), 0.6f, 1.5f, 0),
+              uniform_light(glm::vec3(6, 3, 1.5f), 1.0f, 3.0f, 1),
+              uniform_light(glm::vec3(6, 4.5f, 1.5f), 0.8f, 0.0f, 1),  // blocks only
+              uniform_light(glm::vec3(7, 3, 2.5f), 0.8f, 2.0f, 1)};
+  for (int j = 0; j < 60; ++j)
+    for (int i = 0; i < 60; ++i) {
+      s.points.push_back(glm::vec3(-12 + 24 * (i + 0.5f) / 60, -12 + 24 * (j + 0.5f) / 60, 0));
+      s.normals.push_back(glm::vec3(0, 0, 1));
+    }
+  return s;
+}
+
+double relative_rms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
+  double d2 = 0, b2 = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const glm::vec3 d = a[i] - b[i];
+    d2 += glm::dot(d, d), b2 += glm::dot(b[i], b[i]);
+  }
+  return std::sqrt(d2 / b2);
+}
+
+TEST(SphereLightGather, ClusteredShadingStaysCloseToPerReceiverAndSkipsFarWork) {
+  const ClusterScene scene = cluster_scene();
+  for (SlBlocking b : {SlBlocking::kPerSphere, SlBlocking::kPerObject}) {
+    SphereLightSettings st = settings(b);
+    st.blocker.min_sin = 0.05f;
+    SphereLightGather<4> g(st);
+    g.set_lights(scene.lights);
+    std::vector<glm::vec3> exact(scene.points.size()), clustered(scene.points.size());
+    SphereLightGather<4>::Counts per_receiver, by_cluster;
+    for (std::size_t i = 0; i < scene.points.size(); ++i)
+      exact[i] = g.irradiance(scene.points[i], scene.normals[i], &per_receiver);
+    const SlReceiverClusters c = cluster_receivers(scene.points, scene.normals);
+    EXPECT_GT(c.size(), 100u);
+    g.shade(c, clustered, &by_cluster);
+    EXPECT_LT(relative_rms(clustered, exact), 0.02);
+    EXPECT_GT(by_cluster.far, 0u);
+    EXPECT_LT(by_cluster.views, per_receiver.views / 2);
+    std::vector<glm::vec3> parallel(scene.points.size());
+    g.shade(c, parallel);  // the same without counts, in parallel
+    for (std::size_t i = 0; i < parallel.size(); ++i) EXPECT_EQ(parallel[i], clustered[i]);
+  }
+}
+
+TEST(SphereLightGather, NonPlanarClustersShadeEveryReceiverExactly) {
+  // Normals that differ inside a cell: no far path, the per-receiver result bit for bit.
+  const ClusterScene scene = cluster_scene();
+  std::vector<glm::vec3> normals = scene.normals;
+  for (std::size_t i = 0; i < normals.size(); i += 2)
+    normals[i] = glm::normalize(glm::vec3(0.05f, 0, 1));
+  SphereLightGather<4> g(settings());
+  g.set_lights(scene.lights);
+  const SlReceiverClusters c = cluster_receivers(scene.points, normals);
+  std::vector<glm::vec3> clustered(scene.points.size());
+  SphereLightGather<4>::Counts counts;
+  g.shade(c, clustered, &counts);
+  EXPECT_EQ(counts.far, 0u);
+  for (std::size_t i = 0; i < clustered.size(); ++i)
+    EXPECT_EQ(clustered[i], g.irradiance(scene.points[i], glm::normalize(normals[i])));
+}
+
+TEST(SphereLightGather, ClusterErrorsAreNamed) {
+  const std::vector<glm::vec3> p = {glm::vec3(0), glm::vec3(NAN)}, n(2, glm::vec3(0, 0, 1));
+  EXPECT_THROW(cluster_receivers(p, std::vector<glm::vec3>(1, glm::vec3(0, 0, 1))),
+               std::invalid_argument);
+  try {
+    cluster_receivers(p, n);
+    FAIL();
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("receiver 1"), std::string::npos);
+  }
+  SlClusterSettings bad;
+  bad.cell = 0;
+  EXPECT_THROW(cluster_receivers({}, {}, bad), std::invalid_argument);
+  SphereLightGather<4> g(settings());
+  std::vector<glm::vec3> out(3);
+  EXPECT_THROW(g.shade(cluster_receivers({}, {}), out), std::invalid_argument);
 }
 
 }  // namespace
