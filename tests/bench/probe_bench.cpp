@@ -481,28 +481,27 @@ void sort_by_cell(Movers& m) {
   m = std::move(sorted);
 }
 
-// The memory the walk touches, alone: per entity, its cached cell and that cell's transform,
-// then one float per cache line of the four probes' SH, in the same order as BM_Query. The
-// same-run floor of the query's memory traffic at this access pattern (no arithmetic).
+// The memory the walk touches, alone: per entity, its cached cell's hot record (one line:
+// transform and vertices, ProbeTetWalk::hot()), then one float per cache line of the four
+// probes' records (SH and position), in the same order as BM_Query. The same-run floor of the
+// query's memory traffic at this access pattern (no arithmetic).
 void BM_Touch(benchmark::State& state, bool sorted) {
   const pc::ProbeTetWalk& walk = walk_cloud();
-  const data::ProbeCloud& c = walk.cloud();
+  const pc::detail::ProbeHotData& hot = walk.hot();
   const glm::vec3 pad(1.0f);
   Movers m(10'000, kCloudMin + pad, kCloudMax - pad, 6);
   walk.locate_batch(m.p, m.cells, m.out);
   if (sorted) sort_by_cell(m);
-  const std::size_t per_probe = c.coeffs_per_probe();
+  const std::size_t per_probe = hot.sh_count + 3;
   float sum = 0;
   for (auto _ : state) {
     for (std::size_t i = 0; i < m.size(); ++i) {
-      const auto cell = static_cast<std::size_t>(m.cells[i]);
-      const data::ProbeCell& pc_cell = c.cells[cell];
-      sum += c.transforms[cell][3][0] + m.p[i].x;
-      for (std::int32_t v : pc_cell.vertices) {
+      const pc::detail::ProbeHotCell& cell = hot.cells[static_cast<std::size_t>(m.cells[i])];
+      sum += cell.transform[9] + m.p[i].x;
+      for (std::int32_t v : cell.vertices) {
         if (v < 0) continue;
-        const float* sh = c.probe_sh(static_cast<std::size_t>(v));
-        for (std::size_t k = 0; k < per_probe; k += 16) sum += sh[k];
-        sum += sh[per_probe - 1];
+        const float* r = hot.probe(static_cast<std::size_t>(v));
+        for (std::size_t k = 0; k < per_probe; k += 16) sum += r[k];
       }
     }
     benchmark::DoNotOptimize(sum);
@@ -657,7 +656,7 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
   const auto per_sorted = pb::scale(cpu_ns(r, "BM_Query/walk_sorted"), 1e-4);
   const auto touch = pb::scale(cpu_ns(r, "BM_Touch/unsorted"), 1e-4);
   const auto touch_sorted = pb::scale(cpu_ns(r, "BM_Touch/sorted"), 1e-4);
-  add_row(s, "query: memory touched alone (cell, transform, 4 probes' SH)", "ns", touch, per_query,
+  add_row(s, "query: memory touched alone (cell record, 4 probe records)", "ns", touch, per_query,
           pb::Goal::none(), std::nullopt,
           "same entities and order as the query, loads only; ratio: the query / this");
   add_row(s, "query: entities sorted by cell, 1 thread", "ns", per_sorted, per_query,

@@ -24,15 +24,20 @@ inline double cell_test_flops() {
 inline double interpolation_flops(int bands) {
   return 12.0 * bands * bands;
 }
-// Bytes touched: per cell tested its ProbeCell (32) and transform (64); per interpolation the
-// four probes' SH (4 x 3 x bands^2 floats), the point (12), the cached cell (4 read, 4 written)
-// and the RGB result at the cloud's bands (3 x bands^2 floats written, as ProbeLighting holds;
-// 192 bytes at 4 bands before).
+// Bytes touched (ProbeTetWalk's hot records, whole lines): per cell tested its record (64:
+// transform xyz and vertices); per interpolation the four probes' records (3 x bands^2 SH
+// floats and the position, padded to lines: 128 bytes at 3 bands), the point (12), the cached
+// cell (4 read, 4 written) and the RGB result at the cloud's bands (3 x bands^2 floats written,
+// as ProbeLighting holds). Before the hot records: 96 per cell (ProbeCell 32 + mat4 64) and 644
+// per 3-band interpolation (SH only, and a 4-band result of 192 bytes).
 inline double cell_test_bytes() {
-  return 96;
+  return 64;
+}
+inline double probe_record_bytes(int bands) {
+  return 64.0 * ((3 * bands * bands + 3 + 15) / 16);
 }
 inline double interpolation_bytes(int bands) {
-  return 48.0 * bands * bands + 12 + 8 + 12.0 * bands * bands;
+  return 4 * probe_record_bytes(bands) + 12 + 8 + 12.0 * bands * bands;
 }
 
 // The speed-versus-accuracy sweep (probe_records.cpp): clouds in the accuracy scene of

@@ -129,6 +129,7 @@ class ProbeTetWalk {
   const std::shared_ptr<const data::ProbeCloud>& cloud_ptr() const { return cloud_; }
   const ProbeWalkSettings& settings() const { return settings_; }
   const ProbeCellGrid& grid() const { return grid_; }
+  const detail::ProbeHotData& hot() const { return hot_; }  // the records the walk reads
 
   // The cell holding p, walking from `start` (-1: none). `path`, when given, receives the
   // cells visited in order (the start and the final cell included).
