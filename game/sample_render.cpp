@@ -71,7 +71,7 @@ void populate_sample_scene(ecs::World& world, const SampleSceneConfig& config) {
           terrain_height(static_cast<float>(x) - half, static_cast<float>(y) - half));
   auto lighting = light_terrain(*field, settings.sky);
   world.create_with(components::Terrain{field, {-half, -half, kTerrainDepth}, {0.38f, 0.42f, 0.3f}},
-                    components::TerrainLighting{lighting, field->width, field->height});
+                    components::TerrainLighting{lighting, field->width, field->height, nullptr});
   // Debug geometry filled each frame: the particles as points, each light as a wire sphere.
   world.create_with(DebugPoints{});
   if (const SampleLights* lights = world.try_resource<SampleLights>())

@@ -109,7 +109,7 @@ void add_churn(jobs::Schedule& s, std::shared_ptr<data::MeshData> shared) {
       });
   s.add_each<TerrainLighting>("terrain_light", [](TerrainLighting& l) {
     auto texels = std::make_shared<std::vector<glm::vec3>>(16 * 16, glm::vec3(1.0f));
-    l = {texels, 16, 16};
+    l = {texels, 16, 16, nullptr};
   });
 }
 

@@ -7,14 +7,18 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/reflector.h"
 #include "penumbra/components/reflector_radiance.h"
 #include "penumbra/components/sphere_set.h"
+#include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/jobs/executor.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 #include "test_meshes.h"
 
 namespace penumbra::spherical_lights {
@@ -96,6 +100,75 @@ TEST(SphericalLightSystems, ABadTransformIsNamedAndEmitsNothing) {
   }
   EXPECT_TRUE(named);
   EXPECT_EQ((*s.wall_lighting().indirect)[2], glm::vec3(0.0f));
+}
+
+TEST(SphericalLightSystems, AnObjectSunkIntoTheTerrainEmitsNothing) {
+  // A flat terrain 5 m up, over the whole cube: every sample point is under its surface and
+  // reflects nothing, so the cube's light is black. (The cast shadow alone would leave the
+  // log-SH floor, eps = 0.2 of the sky: 0.18 of the albedo measured before this rule.)
+  Scene s;
+  auto field = std::make_shared<data::HeightField>();
+  field->width = field->height = 33;
+  field->cell_size = 1.0f;
+  field->heights.assign(33 * 33, 5.0f);
+  s.world.create_with(components::Terrain{field, {-16.0f, -16.0f, 0.0f}});
+  s.executor.run(s.schedule, s.world);
+  const auto& radiance = *s.world.get<components::ReflectorRadiance>(s.cube)->radiance;
+  EXPECT_LT(std::abs(radiance[0][0][0]), 0.02f * std::sqrt(4 * std::numbers::pi_v<float>));
+  EXPECT_LT((*s.wall_lighting().indirect)[2].x, 0.005f);
+  EXPECT_TRUE(std::isfinite((*s.wall_lighting().indirect)[2].x));
+}
+
+// With the terrain and blocker systems: a red cube standing on flat ground tints the texels
+// around it red, on top of the blockers' shadow, without compounding frame after frame; the
+// terrain system's own lighting returns when the cube leaves.
+TEST(SphericalLightSystems, ARedCubeBleedsOntoTheTerrainAroundIt) {
+  ecs::World world;
+  jobs::Schedule schedule;
+  jobs::Executor executor(2);
+  terrain_shadow::TerrainShadowConfig config;
+  config.azimuths = 8;
+  terrain_shadow::emplace_terrain_shadow_resources(world, config);
+  blocker_accumulation::emplace_blocker_resources(world);
+  world.resource<blocker_accumulation::BlockerSettingsResource>().refresh_period = 1;
+  emplace_spherical_light_resources(world);
+  world.resource<SphericalLightSettingsResource>().terrain_period = 1;
+  auto& env = world.emplace_resource<components::EnvironmentLight>();
+  for (auto& c : env.radiance) c[0] = std::sqrt(4 * std::numbers::pi_v<float>);
+  env.version = 1;
+  auto field = std::make_shared<data::HeightField>();
+  field->width = field->height = 33;
+  field->cell_size = 1;
+  field->heights.assign(33 * 33, 0.0f);
+  field->source = "flat 33";
+  const ecs::Entity terrain = world.create_with(components::Terrain{field, {-16.0f, -16.0f, 0.0f}},
+                                                components::TerrainLighting{});
+  const data::MeshData box =
+      test::box_mesh(glm::vec3(-1), glm::vec3(1), glm::vec3(0.9f, 0.1f, 0.1f));
+  auto spheres = std::make_shared<std::vector<components::Sphere>>(
+      std::vector<components::Sphere>{{glm::vec3(0), std::sqrt(3.0f) + 1e-3f, -1}});
+  auto samples = std::make_shared<const data::ReflectorSamples>(sample_reflector(box, *spheres));
+  const ecs::Entity cube = world.create_with(
+      components::SphereSet{spheres}, Transform{glm::translate(glm::mat4(1), {0, 0, 1})},
+      components::Reflector{samples}, components::ReflectorRadiance{});
+  terrain_shadow::add_terrain_shadow_systems(schedule);
+  blocker_accumulation::add_blocker_systems(schedule);
+  add_spherical_light_systems(schedule);
+  const auto texel = [&](int x, int y) {
+    return (*world.get<components::TerrainLighting>(terrain)->rgb)[(y + 16) * 33 + x + 16];
+  };
+  for (int i = 0; i < 4; ++i) executor.run(schedule, world);  // states arrive, then shading
+  const glm::vec3 composed =
+      (*world.get<components::TerrainLighting>(terrain)->composed)[(16 + 3) * 33 + 16];
+  const glm::vec3 beside = texel(0, 3);  // 3 m from the cube's centre, 2 m from its face
+  EXPECT_GT(world.get<SphericalLightTerrainState>(terrain)->reached, 0u);
+  EXPECT_GT(beside.x - beside.y, 0.01f);  // red on grey ground
+  for (int i = 0; i < 5; ++i) executor.run(schedule, world);
+  EXPECT_NEAR(texel(0, 3).x, beside.x, 1e-5f);  // not compounded
+  world.get_mut<Transform>(cube)->world = glm::translate(glm::mat4(1), {0, 0, 500});
+  for (int i = 0; i < 2; ++i) executor.run(schedule, world);
+  EXPECT_NEAR(texel(0, 3).x, composed.x, 1e-4f * composed.x);
+  EXPECT_NEAR(texel(0, 3).x, texel(0, 3).y, 1e-4f);
 }
 
 }  // namespace

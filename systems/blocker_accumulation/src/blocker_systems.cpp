@@ -330,7 +330,10 @@ void shade_terrain(jobs::SystemContext& ctx) {
           ctx.commands().add(e, BlockerTerrainState{});
           return;
         }
-        if (lighting.rgb != state->published) state->base = lighting.rgb;  // compose republished
+        if (lighting.composed)  // the terrain system's own lighting, whatever ran after us
+          state->base = lighting.composed;
+        else if (lighting.rgb != state->published)
+          state->base = lighting.rgb;  // republished by whoever wrote it
         if (!state->base || !terrain.heights || !h.horizons || !h.normals ||
             h.horizons->azimuths < 3)
           return;

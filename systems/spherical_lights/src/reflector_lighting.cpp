@@ -20,7 +20,8 @@ template <int N>
 std::vector<sh::CoeffsRgb<N>> ReflectorLighting<N>::update(
     const ReflectorSamples& object, const ObjectPose& pose,
     const blocker_accumulation::BlockerAccumulation<N>& blockers,
-    const sh::CoeffsRgb<N>& environment, std::vector<std::vector<glm::vec3>>* reflected_out) const {
+    const sh::CoeffsRgb<N>& environment, std::vector<std::vector<glm::vec3>>* reflected_out,
+    const sh::Coeffs<N>* extra_log, const std::function<bool(const glm::vec3&)>& buried) const {
   if (static_cast<int>(object.directions.size()) != cells_.cells()) {
     throw std::invalid_argument("ReflectorLighting::update: the object's samples have " +
                                 std::to_string(object.directions.size()) +
@@ -41,7 +42,12 @@ std::vector<sh::CoeffsRgb<N>> ReflectorLighting<N>::update(
       slot.push_back(static_cast<int>(j));
     }
     irradiance.assign(points.size(), glm::vec3(0.0f));
-    blockers.shade(environment, points, normals, {}, irradiance);  // [Guerrero08] eq. 3-8
+    for (std::size_t k = 0; k < points.size(); ++k) {  // [Guerrero08] eq. 3-8
+      irradiance[k] =
+          buried && buried(points[k])
+              ? glm::vec3(0.0f)
+              : blockers.irradiance(environment, points[k], normals[k], nullptr, extra_log);
+    }
     reflected.assign(sl.valid.size(), glm::vec3(0.0f));
     for (std::size_t k = 0; k < slot.size(); ++k) {
       reflected[slot[k]] = irradiance[k] * (1.0f / 3.14159265358979f);

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <mutex>
+#include <numbers>
+#include <optional>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,13 +14,19 @@
 #include <glm/matrix.hpp>
 
 #include "penumbra/components/environment_light.h"
+#include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/reflector.h"
 #include "penumbra/components/reflector_radiance.h"
+#include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
+#include "penumbra/systems/spherical_lights/terrain_indirect.h"
+#include "penumbra/systems/terrain_shadow/cast_shadow.h"
+#include "penumbra/systems/terrain_shadow/terrain_horizons.h"
 
 namespace penumbra::spherical_lights {
 namespace {
@@ -30,6 +39,7 @@ using components::ReflectorRadiance;
 using components::Transform;
 
 constexpr int N = kSystemBands;
+constexpr int kCastAzimuths = 16;  // the terrain's cast shadow, as blockers.shade
 static_assert(N == ReflectorRadiance::kBands && N == blocker_accumulation::kSystemBands);
 
 std::string entity_name(ecs::Entity e) {
@@ -79,6 +89,32 @@ void reflect(ecs::World& w) {
   std::vector<SphereLightSource<N>> lights;
   if (settings.indirect && blockers && blockers->accumulation) {
     const sh::CoeffsRgb<N> environment = environment_radiance(w);
+    const components::Terrain* terrain = nullptr;
+    w.query<const components::Terrain>().each([&](const components::Terrain& t) {
+      if (!terrain && t.heights) terrain = &t;
+    });
+    if (terrain && !field.cast_wedges) {
+      field.cast_wedges = std::make_shared<const terrain_shadow::LogWedge<N>>(
+          kCastAzimuths, std::log(blockers->accumulation->settings().blocker.epsilon));
+    }
+    // A sample point under the terrain's surface (bilinear between samples) reflects nothing.
+    std::function<bool(const glm::vec3&)> buried;
+    if (terrain) {
+      buried = [terrain](const glm::vec3& p) {
+        const data::HeightField& f = *terrain->heights;
+        const float fx = (p.x - terrain->origin.x) / f.cell_size;
+        const float fy = (p.y - terrain->origin.y) / f.cell_size;
+        if (!(fx >= 0 && fy >= 0 && fx <= static_cast<float>(f.width - 1) &&
+              fy <= static_cast<float>(f.height - 1)))
+          return false;
+        const int x = std::min(static_cast<int>(fx), f.width - 2);
+        const int y = std::min(static_cast<int>(fy), f.height - 2);
+        const float tx = fx - static_cast<float>(x), ty = fy - static_cast<float>(y);
+        const float h = (1 - ty) * ((1 - tx) * f.at(x, y) + tx * f.at(x + 1, y)) +
+                        ty * ((1 - tx) * f.at(x, y + 1) + tx * f.at(x + 1, y + 1));
+        return p.z < terrain->origin.z + terrain->height_scale * h;
+      };
+    }
     std::uint32_t object = 0;
     w.query<const Reflector, const Transform, ReflectorRadiance>().each(
         [&](ecs::Entity e, const Reflector& r, const Transform& t, ReflectorRadiance& out) {
@@ -93,9 +129,16 @@ void reflect(ecs::World& w) {
               field.lighting->cells().cells() != static_cast<int>(r.samples->directions.size())) {
             field.lighting = std::make_shared<const ReflectorLighting<N>>(r.samples->directions);
           }
+          std::optional<sh::Coeffs<N>> cast;
+          if (terrain) {
+            cast = terrain_shadow::cast_shadow_log_visibility<N>(  // [Giraud] sec. 4.1
+                *terrain->heights, terrain->height_scale, pose.translation - terrain->origin,
+                *field.cast_wedges);
+          }
           // [Guerrero08] sec. 5: direct light at the sample points, then L^c per light.
           auto radiance = std::make_shared<std::vector<sh::CoeffsRgb<N>>>(
-              field.lighting->update(*r.samples, pose, *blockers->accumulation, environment));
+              field.lighting->update(*r.samples, pose, *blockers->accumulation, environment,
+                                     nullptr, cast ? &*cast : nullptr, buried));
           for (const auto& sl : r.samples->lights) field.sample_points += sl.count();
           ReflectorLighting<N>::place(*r.samples, pose, *radiance, object++, lights);
           out.radiance = std::move(radiance);
@@ -175,6 +218,52 @@ void gather(ecs::World& w) {
   }
 }
 
+void shade_terrain(jobs::SystemContext& ctx) {
+  ecs::World& w = ctx.world();
+  const SphericalLightField& field = w.resource<const SphericalLightField>();
+  const SphericalLightSettingsResource& settings =
+      w.resource<const SphericalLightSettingsResource>();
+  w.query<const components::Terrain, const terrain_shadow::TerrainHorizons,
+          components::TerrainLighting>()
+      .each([&](ecs::Entity e, const components::Terrain& terrain,
+                const terrain_shadow::TerrainHorizons& h, components::TerrainLighting& lighting) {
+        SphericalLightTerrainState* state = w.get_mut<SphericalLightTerrainState>(e);
+        if (!state) {  // arrives at the next sync point
+          ctx.commands().add(e, SphericalLightTerrainState{});
+          return;
+        }
+        // What the systems before us published this frame; our own array means nobody did.
+        if (lighting.rgb != state->published) state->input = lighting.rgb;
+        if (!state->input) return;
+        const bool on = settings.indirect && field.gather && !field.gather->lights().empty() &&
+                        terrain.heights && h.normals;
+        if (on) {
+          const blocker_accumulation::TerrainReceivers t{terrain.heights.get(), terrain.origin,
+                                                         terrain.height_scale, nullptr,
+                                                         h.normals.get()};
+          const int period = std::max(1, settings.terrain_period);
+          state->reached = update_terrain_indirect<N>(
+              t, *field.gather, settings.terrain_min_sin, state->indirect,
+              static_cast<int>(state->frame % static_cast<std::uint64_t>(period)), period);
+        } else {
+          state->reached = 0;
+        }
+        ++state->frame;
+        if (state->reached == 0 || state->indirect.size() != state->input->size()) {
+          state->indirect.clear();
+          lighting.rgb = state->input;
+          state->published = state->input;
+          return;
+        }
+        auto out = std::make_shared<std::vector<glm::vec3>>(*state->input);
+        for (std::size_t i = 0; i < out->size(); ++i) {
+          (*out)[i] += state->indirect[i] * std::numbers::inv_pi_v<float>;  // [Guerrero08] eq. 12
+        }
+        lighting.rgb = out;
+        state->published = std::move(out);
+      });
+}
+
 }  // namespace
 
 void emplace_spherical_light_resources(ecs::World& world, const SphereLightSettings& settings) {
@@ -189,12 +278,17 @@ void add_spherical_light_systems(jobs::Schedule& schedule) {
   schedule
       .add_task("spherical_lights.reflect", [](jobs::SystemContext& ctx) { reflect(ctx.world()); })
       .reads<Reflector, Transform, blocker_accumulation::BlockerField, EnvironmentLight,
-             SphericalLightSettingsResource>()
+             components::Terrain, SphericalLightSettingsResource>()
       .writes<ReflectorRadiance, SphericalLightField>();
   schedule
       .add_task("spherical_lights.gather", [](jobs::SystemContext& ctx) { gather(ctx.world()); })
       .reads<Receiver, Transform, SphericalLightSettingsResource>()
       .writes<SphericalLightField, ReceiverLighting>();
+  schedule.add_task("spherical_lights.terrain", shade_terrain)
+      .reads<components::Terrain, terrain_shadow::TerrainHorizons, SphericalLightField,
+             SphericalLightSettingsResource>()
+      .writes<components::TerrainLighting, SphericalLightTerrainState>()
+      .structural<SphericalLightTerrainState>();
 }
 
 }  // namespace penumbra::spherical_lights

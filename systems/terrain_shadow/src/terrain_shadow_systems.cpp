@@ -135,7 +135,8 @@ void compose(ecs::World& w) {
       (*rgb)[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
     });
     x.refresh.set_reference(*rgb, std::numbers::pi_v<float>);  // what the lights compare against
-    out->rgb = std::move(rgb);
+    out->rgb = rgb;
+    out->composed = std::move(rgb);
     out->width = x.shadowing->field().width;
     out->height = x.shadowing->field().height;
     x.composed_visibility = x.visibility_stamp;

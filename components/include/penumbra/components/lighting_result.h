@@ -20,10 +20,14 @@ struct VertexLighting {
 };
 
 // width * height values, row-major; texel centres on the terrain's grid (render/packet.h).
+// Later systems modulate the terrain system's lighting (the blockers' shadows, the spherical
+// lights' bounce) and publish the result in `rgb`; `composed` stays the terrain system's own
+// array, so each of them can start again from it instead of from its own last output.
 struct TerrainLighting {
   std::shared_ptr<const std::vector<glm::vec3>> rgb;
   int width = 0;
   int height = 0;
+  std::shared_ptr<const std::vector<glm::vec3>> composed;  // terrain_shadow.compose's, or null
 };
 
 }  // namespace penumbra::components

@@ -14,6 +14,7 @@
 // Threading: immutable after construction; update() and place() from any number of threads.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -48,12 +49,17 @@ class ReflectorLighting {
 
   // Eq. 3-11 for every SL of `object` at `pose`: L^c per SL, in the object's frame.
   // `blockers` holds the scene's spheres and local lights; `environment` the distant radiance SH.
-  // `reflected_out`, when given, receives L_pj (E / pi per channel) per SL and direction.
+  // `extra_log`, when given, is more log-SH visibility for every point (the terrain's cast shadow
+  // at the object, [Giraud] sec. 4.1, as blockers.shade adds it). `reflected_out`, when given,
+  // receives L_pj (E / pi per channel) per SL and direction. `buried`, when given, says which
+  // world points are inside solid ground (under a terrain's surface): those reflect nothing.
   std::vector<sh::CoeffsRgb<N>> update(
       const ReflectorSamples& object, const ObjectPose& pose,
       const blocker_accumulation::BlockerAccumulation<N>& blockers,
       const sh::CoeffsRgb<N>& environment,
-      std::vector<std::vector<glm::vec3>>* reflected_out = nullptr) const;
+      std::vector<std::vector<glm::vec3>>* reflected_out = nullptr,
+      const sh::Coeffs<N>* extra_log = nullptr,
+      const std::function<bool(const glm::vec3&)>& buried = {}) const;
 
   // The SLs of `object` at `pose` with their radiance (one per SL, from update()), tagged with
   // `object_id`, appended to `out`.

@@ -1,7 +1,7 @@
 // The spherical-light system in the job graph ([Guerrero08]): two task systems, registered after
 // add_blocker_systems (they read its BlockerField and add to what blockers.shade wrote).
 //
-//   spherical_lights.reflect  reads Reflector, Transform, BlockerField, EnvironmentLight,
+//   spherical_lights.reflect  reads Reflector, Transform, BlockerField, EnvironmentLight, Terrain,
 //       SphericalLightSettingsResource; writes ReflectorRadiance, SphericalLightField
 //       Pass 1 (reflector_lighting.h): per entity with a Reflector, a Transform and a
 //       ReflectorRadiance, the direct light at its sample points (the blockers'
@@ -15,6 +15,12 @@
 //       published as ReceiverLighting::indirect (new shared array). Entities are re-shaded whole,
 //       round robin within the settings' point budget, as blockers.shade does. With `indirect`
 //       off in the settings every entity's indirect term is cleared.
+//   spherical_lights.terrain  reads Terrain, TerrainHorizons, SphericalLightField,
+//       SphericalLightSettingsResource; writes TerrainLighting, SphericalLightTerrainState
+//       (adds it to a terrain, structural)
+//       The bounce on the terrain's texels near the lights (terrain_indirect.h), rows spread
+//       over `terrain_period` frames, added as indirect / pi to what the systems before it
+//       published (register after add_blocker_systems: the blockers' shadowed terrain).
 // render_extract adds indirect / pi to the VertexLighting it draws (radiance per unit albedo).
 #pragma once
 
@@ -27,6 +33,7 @@
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/systems/spherical_lights/reflector_lighting.h"
 #include "penumbra/systems/spherical_lights/sphere_light_gather.h"
+#include "penumbra/systems/terrain_shadow/log_wedge.h"
 
 namespace penumbra::spherical_lights {
 
@@ -38,6 +45,19 @@ struct SphericalLightSettingsResource {
   bool indirect = true;  // false: no indirect light (the HUD's toggle)
   // Receiver points shaded per frame (0: all), whole entities round robin (a new one at once).
   std::size_t receiver_budget = 2048;
+  // Terrain texels: shaded where a light's sin(angular radius) is above this (nearer than
+  // radius / terrain_min_sin), each reached row once every `terrain_period` frames.
+  float terrain_min_sin = 0.15f;
+  int terrain_period = 4;
+};
+
+// Per terrain entity: what spherical_lights.terrain keeps between frames.
+struct SphericalLightTerrainState {
+  std::shared_ptr<const std::vector<glm::vec3>> input;      // what the systems before published
+  std::shared_ptr<const std::vector<glm::vec3>> published;  // ours: input + indirect / pi
+  std::vector<glm::vec3> indirect;                          // per texel, W/m^2
+  std::size_t reached = 0;                                  // texels within reach
+  std::uint64_t frame = 0;
 };
 
 // Resource: this frame's spherical lights, written by spherical_lights.reflect.
@@ -49,6 +69,8 @@ struct SphericalLightField {
   std::size_t receivers = 0;      // receiver points shaded this frame (pass 2)
   std::uint64_t cursor = 0;       // next receiving entity of the round robin
   std::vector<std::string> errors;
+  // The terrain's log-SH wedges for its cast shadow on the sample points (built on first use).
+  std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> cast_wedges;
 };
 
 // Adds SphericalLightSettingsResource (with `settings`) and SphericalLightField when absent.
