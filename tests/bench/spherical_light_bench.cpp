@@ -364,7 +364,8 @@ double update_ops(const std::string& name) {
 struct Analysis {
   sl::SphereLightGather<N>::Counts counts;  // every receiver
   double receivers = 0, ops = 0;
-  std::optional<double> rel_rms, max_rel, ref_rel_se;
+  std::optional<double> rel_rms, max_rel, ref_rel_se, bias;
+  std::optional<double> rel_rms_vs_exact;  // clusters: against per receiver, every receiver
   double accuracy_receivers = 0;
 };
 
@@ -425,19 +426,27 @@ const Analysis& analyse(const ps::FrameCaseInfo& c) {
   std::vector<glm::vec3> all(s.points.size());
   if (c.method == "clusters") {
     gather.shade(clusters(name, c.far_ratio), all, &a.counts);
+    double d2 = 0, e2 = 0;
+    for (std::size_t i = 0; i < s.points.size(); ++i) {
+      const glm::vec3 e = gather.irradiance(s.points[i], s.normals[i]), d = all[i] - e;
+      d2 += glm::dot(d, d), e2 += glm::dot(e, e);
+    }
+    if (e2 > 0) a.rel_rms_vs_exact = std::sqrt(d2 / e2);
   } else {
     for (std::size_t i = 0; i < s.points.size(); ++i)
       all[i] = gather.irradiance(s.points[i], s.normals[i], &a.counts);
   }
   a.ops = gather_ops(a.counts);
   const Reference& r = reference(name);
-  double diff2 = 0, ref2 = 0, se2 = 0, max_diff = 0;
+  double diff2 = 0, ref2 = 0, se2 = 0, max_diff = 0, sum = 0, ref_sum = 0;
   for (std::size_t k = 0; k < r.index.size(); ++k) {
     const std::size_t i = r.index[k];
     const glm::vec3 d = all[i] - r.estimate[k].mean;
     diff2 += glm::dot(d, d);
     ref2 += glm::dot(r.estimate[k].mean, r.estimate[k].mean);
     se2 += glm::dot(r.estimate[k].std_error, r.estimate[k].std_error);
+    sum += all[i].x + all[i].y + all[i].z;
+    ref_sum += r.estimate[k].mean.x + r.estimate[k].mean.y + r.estimate[k].mean.z;
     max_diff = std::max(max_diff, static_cast<double>(glm::length(d)));
   }
   a.accuracy_receivers = static_cast<double>(r.index.size());
@@ -445,6 +454,7 @@ const Analysis& analyse(const ps::FrameCaseInfo& c) {
     a.rel_rms = std::sqrt(diff2 / ref2);
     a.max_rel = max_diff / std::sqrt(ref2 / static_cast<double>(r.index.size()));
     a.ref_rel_se = std::sqrt(se2 / ref2);
+    a.bias = sum / ref_sum;
   }
   return cache.emplace(key, a).first->second;
 }
@@ -549,10 +559,12 @@ void BM_Frame(benchmark::State& state, ps::FrameCaseInfo c) {
   state.counters["exponentials_per_receiver"] = static_cast<double>(a.counts.exponentials) / r;
   state.counters["far_per_receiver"] = static_cast<double>(a.counts.far) / r;
   state.counters["accuracy_receivers"] = a.accuracy_receivers;
+  if (a.rel_rms_vs_exact) state.counters["rel_rms_vs_per_receiver"] = *a.rel_rms_vs_exact;
   if (a.rel_rms) {
     state.counters["rel_rms_vs_reference"] = *a.rel_rms;
     state.counters["max_rel_vs_reference"] = *a.max_rel;
     state.counters["reference_rel_std_error"] = *a.ref_rel_se;
+    state.counters["sum_vs_reference"] = *a.bias;
   }
 }
 
@@ -675,7 +687,11 @@ pb::Summary summarize(const pb::Results& r, const ps::Outputs& out) {
       note += "; indirect vs reference: rel RMS " + fmt("%.3g%%", 100 * *rel) + ", max " +
               fmt("%.3g%%", 100 * r.counter(c.key, "max_rel_vs_reference").value_or(NAN)) +
               " (reference noise " +
-              fmt("%.2g%%", 100 * r.counter(c.key, "reference_rel_std_error").value_or(NAN)) + ")";
+              fmt("%.2g%%", 100 * r.counter(c.key, "reference_rel_std_error").value_or(NAN)) +
+              "; sum / reference sum " +
+              fmt("%.3f", r.counter(c.key, "sum_vs_reference").value_or(NAN)) + ")";
+    if (auto v = r.counter(c.key, "rel_rms_vs_per_receiver"))
+      note += "; vs per receiver: rel RMS " + fmt("%.3g%%", 100 * *v);
     std::optional<double> baseline;
     if (c.kind == "frame" && c.method == "clusters") {
       baseline = ms(frame_key(c.scene, c.blocking, "receivers"));

@@ -32,7 +32,8 @@ constexpr double kErrorSlack = 1.1;  // ringed: fastest within 10% of the mode's
 
 struct Record {
   FrameCaseInfo c;
-  std::optional<double> ms, floor_ms, rel_rms, max_rel, ref_se, views, logs, exps, pairs, far;
+  std::optional<double> ms, floor_ms, rel_rms, max_rel, ref_se, views, logs, exps, pairs, far, bias,
+      vs_exact;
 };
 
 std::vector<Record> collect(const Results& r, double ns_per_fma) {
@@ -51,6 +52,8 @@ std::vector<Record> collect(const Results& r, double ns_per_fma) {
     rec.exps = r.counter(c.key, "exponentials_per_receiver");
     rec.pairs = r.counter(c.key, "pairs_per_receiver");
     rec.far = r.counter(c.key, "far_per_receiver");
+    rec.bias = r.counter(c.key, "sum_vs_reference");
+    rec.vs_exact = r.counter(c.key, "rel_rms_vs_per_receiver");
     out.push_back(rec);
   }
   return out;
@@ -89,7 +92,10 @@ std::string records_json(const std::vector<Record>& records,
        "boxes' meshes with their albedo, 512 directions, 8 direct samples per hit) at every "
        "100th (objects:64) or 21st (squirrel:14) receiver; rel_rms_error = sqrt(sum |E - "
        "E_ref|^2 / sum |E_ref|^2), max_rel_error = max |E - E_ref| / RMS(E_ref), RGB; "
-       "reference_rel_std_error: the reference's own noise on the same scale\""
+       "reference_rel_std_error: the reference's own noise on the same scale; sum_vs_reference: "
+       "sum E / "
+       "sum E_ref (the bias); rel_rms_vs_per_receiver (clusters): against irradiance() at every "
+       "receiver, the clusters' own error\""
     << ",\n  \"best_tradeoff_rule\": \"per blocking mode (objects:64), the fastest frame whose "
        "rel_rms_error is within 10% of the mode's smallest\""
     << ",\n  \"best_tradeoff\": {";
@@ -123,7 +129,9 @@ std::string records_json(const std::vector<Record>& records,
       << ", \"exponentials_per_receiver\": " << jnum(r.exps)
       << ", \"far_per_receiver\": " << jnum(r.far) << ", \"rel_rms_error\": " << jnum(r.rel_rms)
       << ", \"max_rel_error\": " << jnum(r.max_rel)
-      << ", \"reference_rel_std_error\": " << jnum(r.ref_se) << "}";
+      << ", \"reference_rel_std_error\": " << jnum(r.ref_se)
+      << ", \"sum_vs_reference\": " << jnum(r.bias)
+      << ", \"rel_rms_vs_per_receiver\": " << jnum(r.vs_exact) << "}";
   }
   o << "\n  ]\n}\n";
   return o.str();

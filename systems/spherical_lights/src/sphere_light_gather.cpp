@@ -10,6 +10,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/rotation.h"
 
@@ -189,8 +190,16 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
   });
 
   glm::vec3 total(0.0f);
-  bool have_rho = false;
-  sh::Coeffs<N> rho{};
+  struct Pending {
+    std::uint32_t light;
+    float unblocked, partial;  // partial: the table terms of the difference
+    glm::vec3 light_weighted, radiance;
+    int front, all;  // exp_in entries (front < 0: from the table)
+  };
+  thread_local std::vector<Pending> pending;
+  thread_local std::vector<sh::Coeffs<N>> exp_in, exp_out;
+  pending.clear();
+  exp_in.clear();
   const float sqrt_4pi = std::sqrt(4 * 3.14159265358979f);
   const float scale = 1.0f / (1.0f - std::min(settings_.blocker.epsilon, 0.999f));
   for (int i = 0; i < count; ++i) {
@@ -237,33 +246,50 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
       lone = faded;
       ++added;
     }
-    float visibility = unblocked;
-    if (added > 0) {
-      if (!have_rho) rho = sh::rotate_zh<N>(clamped_cosine_, n), have_rho = true;
-      blocker_accumulation::BlockerView own = e.v;
-      own.weight = 1;
-      // [Guerrero08] eq. 23-24, less what they give with nothing in front (header): exp(G_i)
-      // and, with one blocker, exp(G) from the table of lone caps.
-      const float own_term =
-          zonal_dot<N>(clamped_cosine_, cap_exp_zonal(e.v.sin_angle, 1.0f), cos_n);
-      float front_term;
-      if (added == 1) {
-        front_term = zonal_dot<N>(clamped_cosine_, cap_exp_zonal(lone.sin_angle, lone.weight),
-                                  glm::dot(n, lone.axis));
-      } else {
-        front_term = sh::dot<N>(rho, sh::exp_visibility<N>(g));
-      }
-      blocker_accumulation::add_log_visibility<N>(own, log_eps_, g);  // g = G + G_i
-      const float all_term = sh::dot<N>(rho, sh::exp_visibility<N>(g));
-      const float diff = front_term - all_term + own_term - clamped_cosine_[0] * sqrt_4pi;
-      visibility = std::clamp(unblocked + scale * diff, 0.0f, unblocked);
-      if (counts) {
-        ++counts->blocked, ++counts->logs;
-        counts->exponentials += added == 1 ? 1 : 2;
-      }
+    if (added == 0) {
+      if (ratio_out) ratio_out[e.light] = radiance;  // V~ = C
+      total += e.v.weight * radiance * unblocked;    // eq. 14
+      continue;
     }
-    if (ratio_out) ratio_out[e.light] = radiance * (visibility / unblocked);
-    total += e.v.weight * radiance * visibility;  // eq. 14
+    blocker_accumulation::BlockerView own = e.v;
+    own.weight = 1;
+    // [Guerrero08] eq. 23-24, less what they give with nothing in front (header): exp(G_i)
+    // and, with one blocker, exp(G) from the table of lone caps; the SH exponentials are
+    // deferred and taken 8 lanes at a time below.
+    Pending q;
+    q.light = e.light;
+    q.unblocked = unblocked;
+    q.light_weighted = e.v.weight * radiance;
+    q.radiance = radiance;
+    q.partial = zonal_dot<N>(clamped_cosine_, cap_exp_zonal(e.v.sin_angle, 1.0f), cos_n) -
+                clamped_cosine_[0] * sqrt_4pi;
+    q.front = -1;
+    if (added == 1) {
+      q.partial += zonal_dot<N>(clamped_cosine_, cap_exp_zonal(lone.sin_angle, lone.weight),
+                                glm::dot(n, lone.axis));
+    } else {
+      q.front = static_cast<int>(exp_in.size());
+      exp_in.push_back(g);
+    }
+    blocker_accumulation::add_log_visibility<N>(own, log_eps_, g);  // g = G + G_i
+    q.all = static_cast<int>(exp_in.size());
+    exp_in.push_back(g);
+    pending.push_back(q);
+    if (counts) {
+      ++counts->blocked, ++counts->logs;
+      counts->exponentials += added == 1 ? 1 : 2;
+    }
+  }
+  if (pending.empty()) return total;
+  const sh::Coeffs<N> rho = sh::rotate_zh<N>(clamped_cosine_, n);
+  exp_out.resize(exp_in.size());
+  sh::exp_visibility_batch<N>(exp_in, exp_out);
+  for (const Pending& q : pending) {
+    float diff = q.partial - sh::dot<N>(rho, exp_out[q.all]);
+    if (q.front >= 0) diff += sh::dot<N>(rho, exp_out[q.front]);
+    const float visibility = std::clamp(q.unblocked + scale * diff, 0.0f, q.unblocked);
+    if (ratio_out) ratio_out[q.light] = q.radiance * (visibility / q.unblocked);
+    total += q.light_weighted * visibility;  // eq. 14
   }
   return total;
 }
