@@ -15,6 +15,10 @@ README), a short table of the 400-blocker frames and the sweep's best trade-offs
 The probes group likewise adds, from its records (build/bench/probes.json), the
 tetrahedralization against tetgen, the frames and the speed-versus-accuracy sweep; with
 <!-- bench-table:probes-brief:begin/end --> markers, a short table of them.
+The spherical_lights group adds, from its records (build/bench/spherical_lights.json), a table of
+every frame (ms, floor, goal, counted work per receiver, error against the reference and, for
+clusters, against per receiver); with <!-- bench-table:spherical_lights-brief:begin/end -->
+markers, a short table of the goal frames.
 """
 import json
 import sys
@@ -55,6 +59,11 @@ def table(r):
             "prints it) at the start")
         lines += blocker_frames()
         lines += blocker_sweep(blocker_records())
+    if r["group"] == "spherical_lights":
+        lines[0] = lines[0].replace(
+            f"load average {load[0]:.2f} at the start",
+            "load average " + " / ".join(f"{x:.2f}" for x in load) + " (1, 5, 15 min) at the start")
+        lines += sl_frames(sl_records())
     if r["group"] == "probes":
         lines[0] = lines[0].replace(
             f"load average {load[0]:.2f} at the start",
@@ -176,6 +185,69 @@ def blocker_brief(summary, rec):
             f"\nSweep, {scene} ({fmt(x['receivers'])} receivers), fastest within "
             f"{pct(rec['error_budget'])} of all pairs: {what}: {fmt(x['ms'])} ms against all pairs' "
             f"{base} ms, rel RMS {pct(x['rel_rms_error'])} (vs 5 bands {pct(x['rel_rms_error_vs_5_bands'])}).")
+    return "\n".join(lines)
+
+
+def sl_records(path="build/bench/spherical_lights.json"):
+    with open(path) as f:
+        return json.load(f)
+
+
+def sl_frames(rec):
+    """The spherical_lights group's frames: every record, goal frames first."""
+    load = rec.get("load_avg_at_end")
+    lines = [
+        "",
+        "Frames (2 threads, median of the repetitions; build/bench/spherical_lights.json, chart "
+        "build/bench/spherical_lights.svg; load average " + ("-" if load is None else f"{load:.2f}")
+        + " at the end; errors: indirect irradiance against the reference's one bounce, "
+        "RGB, at every 100th or 21st receiver; sum: ours / reference):",
+        "",
+        "| kind | scene | blocking | method | min_sin | far_ratio | ms | floor (ms / floor) | goal | "
+        "views, log caps, exps, far SLs per receiver | rel RMS, max vs reference | sum | "
+        "rel RMS vs per receiver |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for x in rec["records"]:
+        p = x["params"]
+        goal = "-"
+        if x.get("goal_ms") is not None:
+            goal = f"<= {fmt(x['goal_ms'])} ms: {'met' if x['goal_met'] else 'missed'}"
+        blocking, method = x["method"].split(" ")
+        far = fmt(p["far_ratio"]) if p.get("clusters") else "-"
+        floor = "-" if x.get("floor_ms") is None else f"{fmt(x['floor_ms'])} ({fmt(x['ratio_to_floor'])}x)"
+        work = ", ".join(fmt(x.get(k)) for k in ("views_per_receiver", "logs_per_receiver",
+                                                  "exponentials_per_receiver", "far_per_receiver"))
+        lines.append(
+            f"| {x['kind']} | {x['scene']} | {blocking} | {method} | {fmt(p['min_sin'])} | {far} | "
+            f"{fmt(x['ms'])} | {floor} | {goal} | {work} | "
+            f"{pct(x.get('rel_rms_error'))}, {pct(x.get('max_rel_error'))} | "
+            f"{fmt(x.get('sum_vs_reference'))} | {pct(x.get('rel_rms_vs_per_receiver'))} |")
+    return lines
+
+
+def sl_brief(summary, rec):
+    """The README's short spherical_lights table: the goal frames."""
+    load = summary.get("load_avg") or [None]
+    lines = [
+        f"Measured {summary['date']} on {summary['num_cpus']} CPUs, load average "
+        + " / ".join(f"{x:.2f}" for x in load if x is not None)
+        + " at the start (`./penumbra bench spherical_lights`, build/bench/spherical_lights.json).",
+        "",
+        "| frame, 2 threads | receivers x SLs | ms / frame | speed-up vs per receiver | floor "
+        "(ms / floor) | indirect vs reference: rel RMS | goal |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    frames = [x for x in rec["records"] if x["kind"] == "frame"]
+    per_receiver = {(x["scene"], x["params"]["blocking"]): x["ms"] for x in frames
+                    if not x["params"].get("clusters")}
+    for x in frames:
+        goal = f"<= {fmt(x['goal_ms'])} ms: {'met' if x['goal_met'] else 'missed'}"
+        base = per_receiver.get((x["scene"], x["params"]["blocking"]))
+        speed = fmt(base / x["ms"]) if base and x.get("ms") else "-"
+        floor = "-" if x.get("floor_ms") is None else f"{fmt(x['floor_ms'])} ({fmt(x['ratio_to_floor'])}x)"
+        lines.append(f"| {x['scene']} {x['method']} | {x['receivers']:,.0f} x {x['lights']:.0f} | "
+                     f"{fmt(x['ms'])} | {speed} | {floor} | {pct(x.get('rel_rms_error'))} | {goal} |")
     return "\n".join(lines)
 
 
@@ -315,11 +387,12 @@ def main(argv):
     begin, end = f"<!-- bench-table:{group}:begin -->", f"<!-- bench-table:{group}:end -->"
     for target in targets:
         brief = f"<!-- bench-table:{group}-brief:begin -->"
-        if group in ("blockers", "probes"):
+        if group in ("blockers", "probes", "spherical_lights"):
             with open(target) as f:
                 if brief in f.read():
                     short = (blocker_brief(record, blocker_records()) if group == "blockers"
-                             else probe_brief(record, probe_records()))
+                             else probe_brief(record, probe_records()) if group == "probes"
+                             else sl_brief(record, sl_records()))
                     write_between(target, brief, brief.replace(":begin", ":end"), short)
                     continue
         write_between(target, begin, end, text)
