@@ -12,6 +12,7 @@
 
 #include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
+#include "penumbra/sh/lanes.h"
 #include "penumbra/sh/rotation.h"
 
 namespace penumbra::spherical_lights {
@@ -148,7 +149,7 @@ glm::vec3 SphereLightGather<N>::irradiance(const glm::vec3& p, const glm::vec3& 
 template <int N>
 glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n, Counts* counts,
                                          const std::uint8_t* skip, glm::vec3* ratio_out,
-                                         float min_sin) const {
+                                         float min_sin, const std::uint8_t* consider) const {
   blocker_accumulation::SphereBlockerSettings blocker = settings_.blocker;
   blocker.min_sin = min_sin;
   constexpr int kStack = 128;
@@ -170,6 +171,7 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
     const float key0 = per_object ? std::sqrt(bound_d2) : 0.0f;
     for (std::uint32_t k = object_first_[o]; k < object_first_[o + 1]; ++k) {
       const std::uint32_t i = object_lights_[k];
+      if (consider && !consider[i]) continue;
       const SphereLightSource<N>& l = lights_[i];
       ++looked;
       const blocker_accumulation::BlockerView v =
@@ -436,11 +438,17 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std
     glm::vec3 ratio;  // L~ V~ / C x the plane rule's weight
   };
   thread_local std::vector<Far> far_list;
+  thread_local std::vector<std::uint8_t> consider;
+  thread_local std::vector<float> key_lo;
   far_list.clear();
+  consider.assign(lights, 0);
+  key_lo.assign(lights, 0.0f);
   bool any_near = false;
+  float near_key_hi = -1;  // the largest sort key a near emitter can have at a receiver
+  const bool per_object = settings_.blocking == SlBlocking::kPerObject;
   for (std::size_t i = 0; i < lights; ++i) {
     const SphereLightSource<N>& l = lights_[i];
-    if (!emits_[i] || !(l.radius > 0)) continue;
+    if (!(l.radius > 0)) continue;
     const glm::vec3 to = l.centre - centre;
     const float d = glm::length(to);
     // Culled at every receiver: wholly below all their planes, or smaller than min_sin.
@@ -450,33 +458,73 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std
                        0;
     const bool small = min_sin > 0 && outside && l.radius <= min_sin * (d - radius);
     if (outside && (below || small)) {
-      far[i] = 1;  // nothing to shade anywhere in the cluster
+      far[i] = 1;  // nothing to shade anywhere in the cluster, and no view to block with
       continue;
     }
+    // Its sort key's range over the cluster (front to back: the object's centre distance for
+    // kPerObject, else the SL's).
+    const float key = per_object ? glm::length(object_centres_[l.object] - centre) : d;
+    key_lo[i] = key - radius;
+    consider[i] = 1;
+    if (!emits_[i]) continue;  // a blocker only
     if (shrunk[i].far && ratio[i].x >= 0) {
       far_list.push_back({shrunk[i].centre, shrunk[i].radius * shrunk[i].radius,
                           shrunk[i].plane_weight * ratio[i]});
     } else {
       far[i] = 0;  // not seen at the centre (min_sin) or not far: exact at every receiver
       any_near = true;
+      near_key_hi = std::max(near_key_hi, key + radius);
     }
   }
+  // The per-receiver path needs the near emitters and what can sort in front of one of them;
+  // SLs behind every near emitter at every receiver change nothing there (header: ours).
+  for (std::size_t i = 0; i < lights; ++i)
+    if (consider[i] && far[i] && !(key_lo[i] < near_key_hi)) consider[i] = 0;
+
+  const std::uint32_t m = end - begin,
+                      m8 = (m + sh::kLaneCount - 1) / sh::kLaneCount * sh::kLaneCount;
+  thread_local std::vector<float> soa;
+  soa.assign(9 * static_cast<std::size_t>(m8), 0.0f);
+  float *px = soa.data(), *py = px + m8, *pz = py + m8, *nx = pz + m8, *ny = nx + m8, *nz = ny + m8,
+        *ex = nz + m8, *ey = ex + m8, *ez = ey + m8;
+  for (std::uint32_t j = 0; j < m8; ++j) {
+    // Padding lanes repeat the cluster's centre and normal; their results are dropped.
+    const glm::vec3 p = j < m ? clusters.points[begin + j] : centre;
+    const glm::vec3 n = j < m ? clusters.normals[begin + j] : normal;
+    px[j] = p.x, py[j] = p.y, pz[j] = p.z, nx[j] = n.x, ny[j] = n.y, nz[j] = n.z;
+  }
+  // Far SLs, 8 receivers at a time: pi sin^2 cos beta (the cap wholly above the plane,
+  // cap_cosine_integral's first case) x the min_sin fade x the ratio.
   constexpr float kPi = 3.14159265358979f;
-  for (std::uint32_t j = begin; j < end; ++j) {
-    const glm::vec3 p = clusters.points[j], n = clusters.normals[j];
-    glm::vec3 e = any_near ? evaluate(p, n, counts, far.data(), nullptr, min_sin) : glm::vec3(0.0f);
+  using sh::Lanes;
+  for (std::uint32_t j = 0; j < m8 && !far_list.empty(); j += sh::kLaneCount) {
+    const Lanes x = sh::load_lanes(px + j), y = sh::load_lanes(py + j), z = sh::load_lanes(pz + j);
+    const Lanes u = sh::load_lanes(nx + j), v = sh::load_lanes(ny + j), w = sh::load_lanes(nz + j);
+    Lanes sx = sh::splat(0), sy = sh::splat(0), sz = sh::splat(0);
     for (const Far& f : far_list) {
-      const glm::vec3 to = f.centre - p;
-      const float d2 = glm::dot(to, to);
-      const float s2 = f.r2 / d2;
-      const float cos_d = glm::dot(n, to);  // |to| cos beta
-      float w = 1;
-      if (min_sin > 0) w = smoothstep01((std::sqrt(s2) - min_sin) / min_sin);
-      // pi sin^2 cos beta, the cap wholly above the plane (cap_cosine_integral's first case).
-      e += (w * kPi * s2 * cos_d / std::sqrt(d2)) * f.ratio;
+      const Lanes tx = sh::splat(f.centre.x) - x, ty = sh::splat(f.centre.y) - y,
+                  tz = sh::splat(f.centre.z) - z;
+      const Lanes d2 = tx * tx + ty * ty + tz * tz;
+      const Lanes inv_d = sh::splat(1.0f) / sh::lane_sqrt(d2);
+      const Lanes s2 = sh::splat(f.r2) * inv_d * inv_d;
+      Lanes c = sh::splat(kPi) * s2 * (u * tx + v * ty + w * tz) * inv_d;
+      if (min_sin > 0) {
+        const Lanes t =
+            sh::lane_clamp01((sh::lane_sqrt(s2) - sh::splat(min_sin)) * sh::splat(1 / min_sin));
+        c = c * t * t * (sh::splat(3) - sh::splat(2) * t);
+      }
+      sx += c * f.ratio.x, sy += c * f.ratio.y, sz += c * f.ratio.z;
+    }
+    sh::store_lanes(sx, ex + j), sh::store_lanes(sy, ey + j), sh::store_lanes(sz, ez + j);
+  }
+  for (std::uint32_t j = 0; j < m; ++j) {
+    glm::vec3 e(ex[j], ey[j], ez[j]);
+    if (any_near) {
+      e += evaluate(clusters.points[begin + j], clusters.normals[begin + j], counts, far.data(),
+                    nullptr, min_sin, consider.data());
     }
     if (counts) counts->far += far_list.size();
-    out[clusters.order[j]] = e;
+    out[clusters.order[begin + j]] = e;
   }
 }
 

@@ -167,11 +167,12 @@ class SphereLightGather {
   static constexpr int kExpSin = 128, kExpWeight = 16;
   std::vector<sh::Zonal<N>> cap_exp_;  // (kExpSin + 1) x (kExpWeight + 1)
   sh::Zonal<N> cap_exp_zonal(float sin_angle, float weight) const;
-  // irradiance() without the argument checks, at `min_sin`; SLs with skip[i] set are blockers
-  // only, and ratio_out[i] (when given) receives L~ V~ / C of every SL seen as an emitter (0
-  // when dark).
+  // irradiance() without the argument checks, at `min_sin`; only SLs with consider[i] set (all
+  // when null) are looked at; SLs with skip[i] set are blockers only, and ratio_out[i] (when given)
+  // receives L~ V~ / C of every SL seen as an emitter (0 when dark).
   glm::vec3 evaluate(const glm::vec3& p, const glm::vec3& n, Counts* counts,
-                     const std::uint8_t* skip, glm::vec3* ratio_out, float min_sin) const;
+                     const std::uint8_t* skip, glm::vec3* ratio_out, float min_sin,
+                     const std::uint8_t* consider = nullptr) const;
   void shade_cluster(const SlReceiverClusters& clusters, std::size_t k,
                      std::span<glm::vec3> irradiance, Counts* counts) const;
 };
