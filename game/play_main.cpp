@@ -5,7 +5,8 @@
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
 //                 [--device NAME] [--size WxH] [--points N] [--boulders N] [--boulder-detail E]
-//                 [--show-spheres] [--probe-objects N] [--probes-debug] [--terrain-lod PX]
+//                 [--show-spheres] [--probe-objects N] [--probes-debug] [--follow-pair]
+//                 [--terrain-lod PX]
 //                 [--light-budget F]
 //                 [--bench FILE [--bench-splits T:L,...]] [--gpu-timing-frames N]
 //
@@ -19,7 +20,9 @@
 // --boulder-detail E: the boulders' meshes simplified to relative error E (0: full meshes).
 // --probe-objects N: the objects lit by the probe cloud (0: no cloud); --probes-debug starts
 // with its debug views on (probes, each object's cell and walk; key P toggles them in the
-// window). --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F
+// window). --follow-pair starts with the camera on the red and white boulders whose spherical
+// lights bleed colour onto each other and the ground (key C toggles; key I the indirect light).
+// --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F
 // the largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
 // (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
 // and the image against full detail; --bench-splits runs the same scene again per thread split
@@ -50,7 +53,7 @@ using penumbra::play::Options;
       "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
       "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
       "[--points N] [--boulders N] [--boulder-detail E] [--show-spheres] [--probe-objects N] "
-      "[--probes-debug] [--terrain-lod PX] "
+      "[--probes-debug] [--follow-pair] [--terrain-lod PX] "
       "[--light-budget F] "
       "[--bench FILE "
       "[--bench-splits "
@@ -107,6 +110,8 @@ Options parse(int argc, char** argv) {
       o.show_spheres = true;
     else if (a == "--probes-debug")
       o.probes_debug = true;
+    else if (a == "--follow-pair")
+      o.follow_pair = true;
     else if (a == "--probe-objects")
       o.probe_objects = static_cast<int>(number(0));
     else if (a == "--boulders")

@@ -70,6 +70,7 @@ struct Sim {
       demo.boulders.show_spheres = o.show_spheres;
       if (o.boulder_detail >= 0) demo.boulders.simplify_error = o.boulder_detail;
       demo.probes.show = o.probes_debug;
+      demo.follow_pair = o.follow_pair;
       if (o.probe_objects >= 0) demo.probes.count = o.probe_objects;
       demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
       game::populate_terrain_demo(world, demo);
@@ -418,7 +419,7 @@ int run_window(const Options& o) {
   std::vector<FrameSample> samples;
   int f = 0;
   auto last = Clock::now();
-  bool p_was_down = false, i_was_down = false;
+  bool p_was_down = false, i_was_down = false, c_was_down = false;
   for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
     window.poll_events();
     if (window.escape_pressed()) window.request_close();
@@ -433,9 +434,17 @@ int run_window(const Options& o) {
     auto* sl = sim.world.try_resource<spherical_lights::SphericalLightSettingsResource>();
     if (i_down && !i_was_down && sl) sl->indirect = !sl->indirect;
     i_was_down = i_down;
+    // C toggles the camera between the orbit and the boulder pair.
+    const bool c_down = glfwGetKey(window.glfw(), GLFW_KEY_C) == GLFW_PRESS;
+    auto* cam = sim.world.try_resource<game::DemoCameraMode>();
+    if (c_down && !c_was_down && cam) cam->follow_pair = !cam->follow_pair;
+    c_was_down = c_down;
     stats.lines.clear();
     if (sl)
       stats.lines.push_back(std::string("I: indirect light ") + (sl->indirect ? "on" : "off"));
+    if (cam)
+      stats.lines.push_back(std::string("C: camera ") +
+                            (cam->follow_pair ? "on the pair" : "orbit"));
     if (auto* probe = sim.world.try_resource<game::HorizonProbe>()) {
       // The horizon debug view follows the cursor (window coordinates to NDC, y down).
       double cx = 0, cy = 0;

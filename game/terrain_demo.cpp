@@ -15,8 +15,10 @@
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/lighting_result.h"
+#include "penumbra/components/reflector.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
+#include "penumbra/components/transform.h"
 #include "penumbra/data/environment_map.h"
 #include "penumbra/data/height_field.h"
 #include "penumbra/render/packet.h"
@@ -97,6 +99,29 @@ void orbit(ecs::World& w) {
   w.query<const Terrain>().each([&](const Terrain& terrain) {
     if (terrain.heights) extent = terrain.heights->cell_size * (terrain.heights->width - 1);
   });
+  const DemoCameraMode* mode = w.try_resource<const DemoCameraMode>();
+  if (mode && mode->follow_pair) {
+    // The first boulder (red; the white one rolls on the next circle out): seen from outside
+    // its circle, a little ahead and above, so the white one's lit side faces the camera.
+    const Boulder* lead = nullptr;
+    glm::vec3 at(0.0f);
+    w.query<const Boulder, const components::Transform, const components::Reflector>().each(
+        [&](const Boulder& b, const components::Transform& x, const components::Reflector&) {
+          if (lead && lead->path_radius <= b.path_radius) return;  // the inner one is red
+          lead = &b;
+          at = glm::vec3(x.world * glm::vec4(b.model_centre, 1.0f));
+        });
+    if (lead) {
+      const glm::vec3 out = glm::normalize(glm::vec3(at.x, at.y, 0.0f) + glm::vec3(1e-3f, 0, 0));
+      const glm::vec3 side = glm::cross(glm::vec3(0, 0, 1), out);
+      c.position = at + 2200.0f * out + 800.0f * side + glm::vec3(0, 0, 900.0f);
+      c.target = at + 350.0f * out;
+      c.vertical_fov = 0.5f;
+      c.near_plane = 10.0f;
+      c.far_plane = 20.0f * extent;
+      return;
+    }
+  }
   const float a = -std::numbers::pi_v<float> / 2 + 0.03f * t;
   c.position =
       glm::vec3(0.85f * extent * std::cos(a), 0.85f * extent * std::sin(a), 0.45f * extent);
@@ -183,6 +208,8 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   world.emplace_resource<Camera>();
   world.emplace_resource<FrameTime>();
   world.emplace_resource<HorizonProbe>();
+  world.emplace_resource<DemoCameraMode>(DemoCameraMode{config.follow_pair});
+  if (config.follow_pair) world.resource<HorizonProbe>().enabled = false;  // its fan hides them
   terrain_shadow::emplace_terrain_shadow_resources(world, config.shadow, config.light_refresh);
   auto& settings = world.resource<systems::RenderSettings>();
   settings.sky.environment = map;
@@ -216,7 +243,8 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
       .reads<FrameTime>()
       .writes<EnvironmentLight, SphericalLight, Terrain, systems::RenderSettings>();
   s.add_task("demo_camera", [](jobs::SystemContext& ctx) { orbit(ctx.world()); })
-      .reads<FrameTime, Terrain>()
+      .reads<FrameTime, Terrain, DemoCameraMode, Boulder, components::Transform,
+             components::Reflector>()
       .writes<Camera>();
   add_boulder_systems(s);
   add_probe_demo_systems(s);

@@ -46,8 +46,15 @@ struct TerrainDemoConfig {
   float edit_interval = 3.0f;        // seconds between brush edits; <= 0: none
   terrain_shadow::TerrainShadowConfig shadow{};
   terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
-  BoulderConfig boulders{};  // rolling blockers (boulders.h)
+  BoulderConfig boulders{};                            // rolling blockers (boulders.h)
   ProbeDemoConfig probes{};  // the probe cloud and the objects it lights (probe_demo.h)
+  bool follow_pair = false;  // start with the camera on the red-and-white boulder pair
+};
+
+// Resource: what the demo's camera does: orbit the whole terrain, or follow the colour-bleeding
+// boulder pair (boulders.h) from 2.5 km, outside its circle (key C toggles it in a window).
+struct DemoCameraMode {
+  bool follow_pair = false;
 };
 
 // Resource: which texel's horizon the debug view draws, as a point on the screen in NDC
