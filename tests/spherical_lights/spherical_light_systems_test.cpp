@@ -78,6 +78,34 @@ TEST(SphericalLightSystems, ARedCubeBleedsRedOntoTheWallFacingIt) {
   EXPECT_LT((*s.wall_lighting().indirect)[2].x, 0.5f * e.x);
 }
 
+TEST(SphericalLightSystems, ReflectorsTakeTurnsAndFarReceiversSkipTheGather) {
+  Scene s;
+  auto far_point = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(1000, 0, 0));
+  auto far_normal = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(-1, 0, 0));
+  const ecs::Entity far =
+      s.world.create_with(Receiver{far_point, far_normal}, Transform{}, ReceiverLighting{});
+  std::vector<std::size_t> lit;
+  for (int i = 0; i < 8; ++i) {
+    s.executor.run(s.schedule, s.world);
+    lit.push_back(s.world.resource<SphericalLightField>().sample_points);
+  }
+  // reflect_period 4: the one reflector's points are lit on its first frame, then once every 4
+  // frames: 2 or 3 updates in 8 frames (the phase depends on its entity index), never two in a row
+  // after the first.
+  int updates = 0;
+  for (std::size_t i = 0; i < lit.size(); ++i) {
+    updates += lit[i] > 0 ? 1 : 0;
+    if (i >= 2) EXPECT_FALSE(lit[i] > 0 && lit[i - 1] > 0) << i;
+  }
+  EXPECT_GE(updates, 2);
+  EXPECT_LE(updates, 3);
+  EXPECT_GT(lit[0], 0u);
+  EXPECT_EQ(s.world.resource<SphericalLightField>().lights, 1u);  // placed every frame
+  const auto& indirect = *s.world.get<ReceiverLighting>(far)->indirect;
+  ASSERT_EQ(indirect.size(), 1u);
+  EXPECT_EQ(indirect[0], glm::vec3(0.0f));
+}
+
 TEST(SphericalLightSystems, SwitchedOffClearsTheIndirectTerm) {
   Scene s;
   s.executor.run(s.schedule, s.world);

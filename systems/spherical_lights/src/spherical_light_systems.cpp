@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <numbers>
 #include <optional>
@@ -129,21 +130,26 @@ void reflect(ecs::World& w) {
               field.lighting->cells().cells() != static_cast<int>(r.samples->directions.size())) {
             field.lighting = std::make_shared<const ReflectorLighting<N>>(r.samples->directions);
           }
-          std::optional<sh::Coeffs<N>> cast;
-          if (terrain) {
-            cast = terrain_shadow::cast_shadow_log_visibility<N>(  // [Giraud] sec. 4.1
-                *terrain->heights, terrain->height_scale, pose.translation - terrain->origin,
-                *field.cast_wedges);
+          const auto period = static_cast<std::uint64_t>(std::max(1, settings.reflect_period));
+          const bool due = !out.radiance || out.radiance->size() != r.samples->lights.size() ||
+                           (field.frame + e.index) % period == 0;
+          if (due) {
+            std::optional<sh::Coeffs<N>> cast;
+            if (terrain) {
+              cast = terrain_shadow::cast_shadow_log_visibility<N>(  // [Giraud] sec. 4.1
+                  *terrain->heights, terrain->height_scale, pose.translation - terrain->origin,
+                  *field.cast_wedges);
+            }
+            // [Guerrero08] sec. 5: direct light at the sample points, then L^c per light.
+            out.radiance = std::make_shared<std::vector<sh::CoeffsRgb<N>>>(
+                field.lighting->update(*r.samples, pose, *blockers->accumulation, environment,
+                                       nullptr, cast ? &*cast : nullptr, buried));
+            for (const auto& sl : r.samples->lights) field.sample_points += sl.count();
           }
-          // [Guerrero08] sec. 5: direct light at the sample points, then L^c per light.
-          auto radiance = std::make_shared<std::vector<sh::CoeffsRgb<N>>>(
-              field.lighting->update(*r.samples, pose, *blockers->accumulation, environment,
-                                     nullptr, cast ? &*cast : nullptr, buried));
-          for (const auto& sl : r.samples->lights) field.sample_points += sl.count();
-          ReflectorLighting<N>::place(*r.samples, pose, *radiance, object++, lights);
-          out.radiance = std::move(radiance);
+          ReflectorLighting<N>::place(*r.samples, pose, *out.radiance, object++, lights);
         });
   }
+  ++field.frame;
   field.lights = lights.size();
   field.gather->set_lights(std::move(lights));
 }
@@ -192,6 +198,22 @@ void gather(ecs::World& w) {
     }
     const std::size_t n = r.points->size();
     const glm::mat4 world = it.t->world;
+    // Beyond every light's reach: zeros, no gather (the bound of the points in world space).
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const glm::vec3& q : *r.points) {
+      const glm::vec3 p = glm::vec3(world * glm::vec4(q, 1.0f));
+      lo = glm::min(lo, p), hi = glm::max(hi, p);
+    }
+    bool reached = false;
+    const float min_sin = std::max(gather.settings().blocker.min_sin, 1e-3f);
+    for (const SphereLightSource<N>& l : gather.lights()) {
+      const glm::vec3 nearest = glm::clamp(l.centre, lo, hi);
+      reached = reached || glm::length(nearest - l.centre) < l.radius / min_sin;
+    }
+    if (!reached) {
+      it.out->indirect = std::make_shared<std::vector<glm::vec3>>(n, glm::vec3(0.0f));
+      continue;
+    }
     const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
     auto indirect = std::make_shared<std::vector<glm::vec3>>(n, glm::vec3(0.0f));
     std::mutex error_mutex;

@@ -12,7 +12,9 @@
 //   spherical_lights.gather   reads Receiver, Transform, SphericalLightField,
 //       SphericalLightSettingsResource; writes ReceiverLighting
 //       Pass 2 (sphere_light_gather.h): the one-bounce irradiance at each receiver point,
-//       published as ReceiverLighting::indirect (new shared array). Entities are re-shaded whole,
+//       published as ReceiverLighting::indirect (new shared array). An entity whose points all
+//       lie beyond every light's reach (its points' bound against each light's radius /
+//       min_sin) gets zeros without a gather. Entities are re-shaded whole,
 //       round robin within the settings' point budget, as blockers.shade does. With `indirect`
 //       off in the settings every entity's indirect term is cleared.
 //   spherical_lights.terrain  reads Terrain, TerrainHorizons, SphericalLightField,
@@ -45,6 +47,10 @@ struct SphericalLightSettingsResource {
   bool indirect = true;  // false: no indirect light (the HUD's toggle)
   // Receiver points shaded per frame (0: all), whole entities round robin (a new one at once).
   std::size_t receiver_budget = 2048;
+  // Frames between two pass-1 updates of one reflector (1: every frame); reflectors take turns
+  // (entity index modulo the period), a new one at once. Its lights follow its transform every
+  // frame (the radiance SH is in its own frame); only the light it reflects lags.
+  int reflect_period = 4;
   // Terrain texels: shaded where a light's sin(angular radius) is above this (nearer than
   // radius / terrain_min_sin), each reached row once every `terrain_period` frames.
   float terrain_min_sin = 0.15f;
@@ -68,6 +74,7 @@ struct SphericalLightField {
   std::size_t sample_points = 0;  // sample points lit this frame (pass 1)
   std::size_t receivers = 0;      // receiver points shaded this frame (pass 2)
   std::uint64_t cursor = 0;       // next receiving entity of the round robin
+  std::uint64_t frame = 0;        // frames reflected (the reflect period's clock)
   std::vector<std::string> errors;
   // The terrain's log-SH wedges for its cast shadow on the sample points (built on first use).
   std::shared_ptr<const terrain_shadow::LogWedge<kSystemBands>> cast_wedges;
