@@ -95,7 +95,9 @@ TEST(SphericalLightSystems, ReflectorsTakeTurnsAndFarReceiversSkipTheGather) {
   int updates = 0;
   for (std::size_t i = 0; i < lit.size(); ++i) {
     updates += lit[i] > 0 ? 1 : 0;
-    if (i >= 2) EXPECT_FALSE(lit[i] > 0 && lit[i - 1] > 0) << i;
+    if (i >= 2) {
+      EXPECT_FALSE(lit[i] > 0 && lit[i - 1] > 0) << i;
+    }
   }
   EXPECT_GE(updates, 2);
   EXPECT_LE(updates, 3);
