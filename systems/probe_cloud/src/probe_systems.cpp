@@ -23,7 +23,8 @@ using components::ProbeLighting;
 using components::Transform;
 
 using LightingSh = sh::CoeffsRgb<ProbeLighting::kBands>;
-constexpr std::size_t kMaxErrors = 20;  // entities named per frame in the report
+constexpr std::size_t kMaxErrors = 20;     // entities named per frame in the report
+constexpr std::size_t kPrefetchRows = 32;  // walk_chunk hints the rows' lines this far ahead
 
 std::string entity_name(ecs::Entity e) {
   return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
@@ -106,10 +107,22 @@ void walk_chunk(jobs::SystemContext& ctx,
   const auto anchors = c.get<ProbeAnchor>();
   const auto lighting = c.get<ProbeLighting>();
   const auto entities = c.entities();
+  const std::uint64_t generation = state.generation;
   const auto cached_cell = [&](std::size_t k) {
-    return anchors[k].generation == state.generation ? anchors[k].cell : kNoCell;
+    return anchors[k].generation == generation ? anchors[k].cell : kNoCell;
+  };
+  const auto lines = [](const void* p, std::size_t bytes, int write) {
+    const char* b = static_cast<const char*>(p);
+    for (std::size_t o = 0; o < bytes; o += 64)
+      write ? __builtin_prefetch(b + o, 1) : __builtin_prefetch(b + o);
+    write ? __builtin_prefetch(b + bytes - 1, 1) : __builtin_prefetch(b + bytes - 1);
   };
   for (std::size_t i = 0; i < c.size(); ++i) {
+    if (i + kPrefetchRows < c.size()) {  // the rows themselves, further ahead than the cells
+      lines(&transforms[i + kPrefetchRows], sizeof(Transform), 0);
+      lines(&anchors[i + kPrefetchRows], sizeof(ProbeAnchor), 1);
+      lines(&lighting[i + kPrefetchRows], sizeof(ProbeLighting), 1);
+    }
     if (i + kPrefetchCells < c.size()) walk.prefetch(cached_cell(i + kPrefetchCells), false);
     if (i + kPrefetchProbes < c.size()) walk.prefetch(cached_cell(i + kPrefetchProbes), true);
     ProbeAnchor& a = anchors[i];
@@ -122,7 +135,7 @@ void walk_chunk(jobs::SystemContext& ctx,
       continue;
     }
     ProbeLighting& l = lighting[i];
-    const bool cached = a.generation == state.generation;
+    const bool cached = a.generation == generation;
     if (cached && l.valid && a.point == p) {
       // Not moved since its last walk, same cloud: the same sample; only the smoothing moves,
       // towards that sample rebuilt from the cached cell (ProbeTetWalk::at: no walk).
@@ -132,7 +145,7 @@ void walk_chunk(jobs::SystemContext& ctx,
     }
     const ProbeWalkResult r = walk.locate(p, cached ? a.cell : kNoCell);
     a.cell = r.cell;
-    a.generation = state.generation;
+    a.generation = generation;
     a.point = p;
     a.steps = r.steps;
     a.fallback = r.fallback;
