@@ -241,20 +241,19 @@ TEST(SphereLightGather, ClusteredShadingStaysCloseToPerReceiverAndSkipsFarWork) 
 }
 
 TEST(SphereLightGather, NonPlanarClustersShadeEveryReceiverExactly) {
-  // Normals that differ inside a cell: no far path, the per-receiver result bit for bit.
+  // No cluster planar (normal_cos above 1): no far path, the per-receiver result bit for bit.
   const ClusterScene scene = cluster_scene();
-  std::vector<glm::vec3> normals = scene.normals;
-  for (std::size_t i = 0; i < normals.size(); i += 2)
-    normals[i] = glm::normalize(glm::vec3(0.05f, 0, 1));
   SphereLightGather<4> g(settings());
   g.set_lights(scene.lights);
-  const SlReceiverClusters c = cluster_receivers(scene.points, normals);
+  SlClusterSettings cs;
+  cs.normal_cos = 2;
+  const SlReceiverClusters c = cluster_receivers(scene.points, scene.normals, cs);
   std::vector<glm::vec3> clustered(scene.points.size());
   SphereLightGather<4>::Counts counts;
   g.shade(c, clustered, &counts);
   EXPECT_EQ(counts.far, 0u);
   for (std::size_t i = 0; i < clustered.size(); ++i)
-    EXPECT_EQ(clustered[i], g.irradiance(scene.points[i], glm::normalize(normals[i])));
+    EXPECT_EQ(clustered[i], g.irradiance(scene.points[i], scene.normals[i]));
 }
 
 TEST(SphereLightGather, ClusterErrorsAreNamed) {

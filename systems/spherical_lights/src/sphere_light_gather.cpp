@@ -308,6 +308,54 @@ void SphereLightGather<N>::shade(std::span<const glm::vec3> points,
     irradiance_out[i] = irradiance(points[i], normals[i]);
 }
 
+namespace {
+
+// Key of a receiver's cell of size `cell` (21 bits per axis, wrapped) and its normal's dominant
+// axis and sign.
+std::uint64_t cell_key(const glm::vec3& p, const glm::vec3& n, float cell) {
+  const glm::vec3 q = glm::floor(p / cell);
+  const glm::vec3 a = glm::abs(n);
+  const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+  const std::uint64_t side = n[axis] < 0 ? 1 : 0;
+  auto bits = [](float v) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) & 0x1fffff);
+  };
+  return (bits(q.x) << 42 | bits(q.y) << 21 | bits(q.z)) << 3 |
+         static_cast<std::uint64_t>(axis * 2) | side;
+}
+
+// Centre, normal, radius, thickness, spread and planarity of every cluster of `level`.
+void cluster_geometry(const SlReceiverClusters& c, const SlClusterSettings& settings,
+                      SlClusterLevel& level) {
+  const std::size_t clusters = level.size();
+  level.centre.assign(clusters, glm::vec3(0.0f));
+  level.normal.assign(clusters, glm::vec3(0.0f));
+  level.radius.assign(clusters, 0.0f);
+  level.thickness.assign(clusters, 0.0f);
+  level.spread.assign(clusters, 0.0f);
+  level.planar.assign(clusters, 0);
+  for (std::size_t k = 0; k < clusters; ++k) {
+    glm::vec3 sum_p(0.0f), sum_n(0.0f);
+    for (std::uint32_t j = level.first[k]; j < level.first[k + 1]; ++j)
+      sum_p += c.points[j], sum_n += c.normals[j];
+    const float count = static_cast<float>(level.first[k + 1] - level.first[k]);
+    level.centre[k] = sum_p / count;
+    level.normal[k] = glm::length(sum_n) > 0 ? glm::normalize(sum_n) : glm::vec3(0, 0, 1);
+    float r = 0, min_cos = 1, thick = 0;
+    for (std::uint32_t j = level.first[k]; j < level.first[k + 1]; ++j) {
+      r = std::max(r, glm::length(c.points[j] - level.centre[k]));
+      min_cos = std::min(min_cos, glm::dot(c.normals[j], level.normal[k]));
+      thick = std::max(thick, std::abs(glm::dot(level.normal[k], c.points[j] - level.centre[k])));
+    }
+    level.radius[k] = r * 1.0001f;
+    level.thickness[k] = thick * 1.0001f + 1e-6f;
+    level.spread[k] = std::sqrt(std::max(0.0f, 2 - 2 * min_cos)) + 1e-6f;
+    level.planar[k] = min_cos >= settings.normal_cos && thick <= 1e-3f * std::max(r, 1e-3f) + 1e-4f;
+  }
+}
+
+}  // namespace
+
 SlReceiverClusters cluster_receivers(std::span<const glm::vec3> points,
                                      std::span<const glm::vec3> normals,
                                      const SlClusterSettings& settings) {
@@ -319,77 +367,102 @@ SlReceiverClusters cluster_receivers(std::span<const glm::vec3> points,
   }
   SlReceiverClusters c;
   c.settings = settings;
-  // Key: the cell (21 bits per axis, wrapped) and the normal's dominant axis and sign.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(points.size());
+  struct Keyed {
+    std::uint64_t coarse, fine;
+    std::uint32_t index;
+    bool operator<(const Keyed& o) const {
+      return coarse != o.coarse ? coarse < o.coarse
+             : fine != o.fine   ? fine < o.fine
+                                : index < o.index;
+    }
+  };
+  std::vector<Keyed> keyed(points.size());
   for (std::uint32_t i = 0; i < points.size(); ++i) {
     if (!finite(points[i]) || !finite(normals[i])) {
       throw std::invalid_argument("cluster_receivers: receiver " + std::to_string(i) +
                                   " has a non-finite point or normal");
     }
-    const glm::vec3 q = glm::floor(points[i] / settings.cell);
-    const glm::vec3 a = glm::abs(normals[i]);
-    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
-    const std::uint64_t side = normals[i][axis] < 0 ? 1 : 0;
-    auto bits = [](float v) {
-      return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) & 0x1fffff);
-    };
-    keyed[i] = {(bits(q.x) << 42 | bits(q.y) << 21 | bits(q.z)) << 3 |
-                    static_cast<std::uint64_t>(axis * 2) | side,
-                i};
+    keyed[i] = {cell_key(points[i], normals[i], settings.cell),
+                cell_key(points[i], normals[i], 0.5f * settings.cell), i};
   }
   std::sort(keyed.begin(), keyed.end());
   c.order.reserve(points.size());
-  c.first.push_back(0);
   for (std::size_t k = 0; k < keyed.size(); ++k) {
-    const bool split = k > 0 && (keyed[k].first != keyed[k - 1].first ||
-                                 c.order.size() - c.first.back() >=
-                                     static_cast<std::size_t>(settings.max_receivers));
-    if (split) c.first.push_back(static_cast<std::uint32_t>(c.order.size()));
-    c.order.push_back(keyed[k].second);
+    const bool new_coarse = k == 0 || keyed[k].coarse != keyed[k - 1].coarse;
+    const bool new_fine =
+        new_coarse || keyed[k].fine != keyed[k - 1].fine ||
+        c.order.size() - c.fine.first.back() >= static_cast<std::size_t>(settings.max_receivers);
+    const auto at = static_cast<std::uint32_t>(c.order.size());
+    if (new_coarse) {
+      c.coarse.first.push_back(at);
+      c.children.push_back(static_cast<std::uint32_t>(c.fine.first.size()));
+    }
+    if (new_fine) c.fine.first.push_back(at);
+    c.order.push_back(keyed[k].index);
   }
-  if (!keyed.empty()) c.first.push_back(static_cast<std::uint32_t>(c.order.size()));
-  const std::size_t clusters = c.first.size() - 1;
+  const auto total = static_cast<std::uint32_t>(c.order.size());
+  if (!keyed.empty()) {
+    c.coarse.first.push_back(total);
+    c.fine.first.push_back(total);
+    c.children.push_back(static_cast<std::uint32_t>(c.fine.first.size() - 1));
+  }
   c.points.resize(c.order.size());
   c.normals.resize(c.order.size());
-  c.centre.assign(clusters, glm::vec3(0.0f));
-  c.normal.assign(clusters, glm::vec3(0.0f));
-  c.radius.assign(clusters, 0.0f);
-  c.planar.assign(clusters, 0);
-  c.thickness.assign(clusters, 0.0f);
-  c.spread.assign(clusters, 0.0f);
-  for (std::size_t k = 0; k < clusters; ++k) {
-    glm::vec3 sum_p(0.0f), sum_n(0.0f);
-    for (std::uint32_t j = c.first[k]; j < c.first[k + 1]; ++j) {
-      c.points[j] = points[c.order[j]];
-      c.normals[j] = glm::normalize(normals[c.order[j]]);
-      sum_p += c.points[j], sum_n += c.normals[j];
-    }
-    const float count = static_cast<float>(c.first[k + 1] - c.first[k]);
-    c.centre[k] = sum_p / count;
-    c.normal[k] = glm::length(sum_n) > 0 ? glm::normalize(sum_n) : glm::vec3(0, 0, 1);
-    float r = 0, min_cos = 1;
-    for (std::uint32_t j = c.first[k]; j < c.first[k + 1]; ++j) {
-      r = std::max(r, glm::length(c.points[j] - c.centre[k]));
-      min_cos = std::min(min_cos, glm::dot(c.normals[j], c.normal[k]));
-    }
-    float thick = 0;
-    for (std::uint32_t j = c.first[k]; j < c.first[k + 1]; ++j)
-      thick = std::max(thick, std::abs(glm::dot(c.normal[k], c.points[j] - c.centre[k])));
-    c.radius[k] = r * 1.0001f;
-    c.thickness[k] = thick * 1.0001f + 1e-6f;
-    c.spread[k] = std::sqrt(std::max(0.0f, 2 - 2 * min_cos)) + 1e-6f;
-    c.planar[k] = min_cos >= settings.normal_cos && thick <= 1e-3f * std::max(r, 1e-3f) + 1e-4f;
+  for (std::size_t j = 0; j < c.order.size(); ++j) {
+    c.points[j] = points[c.order[j]];
+    c.normals[j] = glm::normalize(normals[c.order[j]]);
   }
+  cluster_geometry(c, settings, c.coarse);
+  cluster_geometry(c, settings, c.fine);
   return c;
 }
 
 template <int N>
-void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std::size_t k,
+bool SphereLightGather<N>::has_near(const SlClusterLevel& level, std::size_t k,
+                                    float far_ratio) const {
+  // The classification of shade_cluster, without the centre's evaluation.
+  const glm::vec3 centre = level.centre[k], normal = level.normal[k];
+  const float radius = level.radius[k], min_sin = settings_.blocker.min_sin;
+  for (std::size_t i = 0; i < lights_.size(); ++i) {
+    const SphereLightSource<N>& l = lights_[i];
+    if (!emits_[i] || !(l.radius > 0)) continue;
+    const glm::vec3 to = l.centre - centre;
+    const float d = glm::length(to);
+    const bool outside = d > radius + l.radius;
+    const bool below =
+        glm::dot(normal, to) + l.radius + level.thickness[k] + level.spread[k] * (d + radius) <= 0;
+    const bool small = min_sin > 0 && outside && l.radius <= min_sin * (d - radius);
+    if (outside && (below || small)) continue;
+    const float t = glm::dot(normal, to) + l.radius;
+    if (!(t > 0)) return true;
+    const float r1 = std::min(l.radius, 0.5f * t);
+    const glm::vec3 c1 = l.centre + (l.radius - r1) * normal;
+    const float d1 = glm::length(c1 - centre);
+    const float vary = level.thickness[k] + level.spread[k] * (d1 + radius);
+    if (!(r1 > 0 && radius <= far_ratio * (d1 - r1) && vary <= 0.01f * r1)) return true;
+  }
+  return false;
+}
+
+template <int N>
+void SphereLightGather<N>::shade_coarse(const SlReceiverClusters& clusters, std::size_t k,
+                                        std::span<glm::vec3> out, Counts* counts) const {
+  if (clusters.coarse.planar[k] && !has_near(clusters.coarse, k, clusters.settings.far_ratio)) {
+    shade_cluster(clusters, clusters.coarse, k, out, counts);
+    return;
+  }
+  for (std::uint32_t f = clusters.children[k]; f < clusters.children[k + 1]; ++f)
+    shade_cluster(clusters, clusters.fine, f, out, counts);
+}
+
+template <int N>
+void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
+                                         const SlClusterLevel& level, std::size_t k,
                                          std::span<glm::vec3> out, Counts* counts) const {
-  const std::uint32_t begin = clusters.first[k], end = clusters.first[k + 1];
+  const std::uint32_t begin = level.first[k], end = level.first[k + 1];
   const std::size_t lights = lights_.size();
   const float min_sin = settings_.blocker.min_sin;
-  if (!clusters.planar[k] || lights == 0) {
+  if (!level.planar[k] || lights == 0) {
     for (std::uint32_t j = begin; j < end; ++j)
       out[clusters.order[j]] =
           evaluate(clusters.points[j], clusters.normals[j], counts, nullptr, nullptr, min_sin);
@@ -399,8 +472,8 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std
   // rule's shrunk sphere (sec. 6.2) is the same at every receiver; a far one carries the ratio
   // L~ V~ / C measured at the cluster's centre, and every receiver multiplies it by its own exact
   // cap integral C (the shrunk cap is wholly above the plane, so C = pi sin^2 cos beta).
-  const glm::vec3 centre = clusters.centre[k], normal = clusters.normal[k];
-  const float radius = clusters.radius[k];
+  const glm::vec3 centre = level.centre[k], normal = level.normal[k];
+  const float radius = level.radius[k];
   thread_local std::vector<std::uint8_t> far;
   thread_local std::vector<glm::vec3> ratio;
   far.assign(lights, 0);
@@ -423,7 +496,7 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std
     const float d1 = glm::length(c1 - centre);
     // The shrunk cap touches or clears the centre's plane; every receiver's plane is within
     // `vary` of it, so its own shrunk sphere differs by at most 1% of r1.
-    const float vary = clusters.thickness[k] + clusters.spread[k] * (d1 + radius);
+    const float vary = level.thickness[k] + level.spread[k] * (d1 + radius);
     const bool is_far =
         r1 > 0 && radius <= clusters.settings.far_ratio * (d1 - r1) && vary <= 0.01f * r1;
     shrunk[i] = {c1, r1, smoothstep01(t / (2 * l.radius)), is_far};
@@ -453,9 +526,8 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters, std
     const float d = glm::length(to);
     // Culled at every receiver: wholly below all their planes, or smaller than min_sin.
     const bool outside = d > radius + l.radius;
-    const bool below = glm::dot(normal, to) + l.radius + clusters.thickness[k] +
-                           clusters.spread[k] * (d + radius) <=
-                       0;
+    const bool below =
+        glm::dot(normal, to) + l.radius + level.thickness[k] + level.spread[k] * (d + radius) <= 0;
     const bool small = min_sin > 0 && outside && l.radius <= min_sin * (d - radius);
     if (outside && (below || small)) {
       far[i] = 1;  // nothing to shade anywhere in the cluster, and no view to block with
@@ -534,15 +606,15 @@ void SphereLightGather<N>::shade(const SlReceiverClusters& clusters,
   if (irradiance_out.size() != clusters.order.size()) {
     throw std::invalid_argument("SphereLightGather::shade: output and clusters differ in size");
   }
-  const std::size_t count = clusters.first.empty() ? 0 : clusters.first.size() - 1;
+  const std::size_t count = clusters.size();
   if (counts) {
-    for (std::size_t k = 0; k < count; ++k) shade_cluster(clusters, k, irradiance_out, counts);
+    for (std::size_t k = 0; k < count; ++k) shade_coarse(clusters, k, irradiance_out, counts);
     return;
   }
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, 1),
                     [&](const tbb::blocked_range<std::size_t>& r) {
                       for (std::size_t k = r.begin(); k < r.end(); ++k)
-                        shade_cluster(clusters, k, irradiance_out, nullptr);
+                        shade_coarse(clusters, k, irradiance_out, nullptr);
                     });
 }
 

@@ -44,8 +44,12 @@
 //    that ratio by its own exact C (and min_sin fade). The other SLs go through the per-receiver
 //    path with the far ones still blocking. [Guerrero08] keeps V~ per receiver and swaps child
 //    SLs for a parent; ours keeps the SLs and shares L~ and the visibility ratio, so a far SL
-//    costs about 20 operations per receiver. Error: what L~ and the ratio change across the
-//    cluster, bounded by far_ratio (docs/spherical_lights.md measures it).
+//    costs about 20 operations per receiver (8 receivers a lane step). Error: what L~ and the
+//    ratio change across the cluster, bounded by far_ratio (docs/spherical_lights.md measures
+//    it). Two levels: a coarse cluster with a near SL is shaded as its fine clusters (half the
+//    cell), so the cut between far and near follows the distance to the objects. The
+//    per-receiver path then looks only at the near emitters and the SLs that can sort in front
+//    of one somewhere in the cluster (the others change nothing there: exact).
 //
 // Errors: set_lights throws std::invalid_argument naming the light (index) with a non-finite
 // centre or radiance, or a radius that is negative or not finite; a zero radius is no light.
@@ -99,17 +103,28 @@ struct SlClusterSettings {
   float normal_cos = 0.99999f;  // planar: every normal within this cosine of the mean
 };
 
+// One level of clusters: per cluster its receivers [first[k], first[k + 1]) of `order` and its
+// geometry.
+struct SlClusterLevel {
+  std::vector<std::uint32_t> first;       // per cluster its first entry of `order`, then the end
+  std::vector<glm::vec3> centre, normal;  // mean point, mean normal (unit)
+  std::vector<float> radius;              // bounds its points around `centre`
+  std::vector<float> thickness;           // max |normal . (p - centre)|
+  std::vector<float> spread;              // max |n - normal| over its receivers
+  std::vector<std::uint8_t> planar;
+  std::size_t size() const { return first.empty() ? 0 : first.size() - 1; }
+};
+
+// Two levels: coarse cells of `cell` metres, each cut into fine cells of cell / 2 (at most
+// max_receivers each). A coarse cluster with no near SL is shaded whole; otherwise its fine
+// clusters are, each with its own far SLs ([Guerrero08] sec. 7.3's cut, by distance).
 struct SlReceiverClusters {
   SlClusterSettings settings;
   std::vector<std::uint32_t> order;        // receiver indices, cluster by cluster
-  std::vector<std::uint32_t> first;        // per cluster its first entry of `order`, then the end
   std::vector<glm::vec3> points, normals;  // in `order` (normals unit)
-  std::vector<glm::vec3> centre, normal;   // per cluster: mean point, mean normal (unit)
-  std::vector<float> radius;               // per cluster: bounds its points around `centre`
-  std::vector<float> thickness;            // per cluster: max |normal . (p - centre)|
-  std::vector<float> spread;               // per cluster: max |n - normal| over its receivers
-  std::vector<std::uint8_t> planar;
-  std::size_t size() const { return first.empty() ? 0 : first.size() - 1; }
+  SlClusterLevel coarse, fine;
+  std::vector<std::uint32_t> children;  // coarse k: fine clusters [children[k], children[k + 1])
+  std::size_t size() const { return coarse.size(); }
 };
 
 // Errors: std::invalid_argument for sizes that differ, a non-finite point or normal (named by
@@ -173,7 +188,11 @@ class SphereLightGather {
   glm::vec3 evaluate(const glm::vec3& p, const glm::vec3& n, Counts* counts,
                      const std::uint8_t* skip, glm::vec3* ratio_out, float min_sin,
                      const std::uint8_t* consider = nullptr) const;
-  void shade_cluster(const SlReceiverClusters& clusters, std::size_t k,
+  // A coarse cluster: whole when no SL is near, else its fine clusters one by one.
+  void shade_coarse(const SlReceiverClusters& clusters, std::size_t k,
+                    std::span<glm::vec3> irradiance, Counts* counts) const;
+  bool has_near(const SlClusterLevel& level, std::size_t k, float far_ratio) const;
+  void shade_cluster(const SlReceiverClusters& clusters, const SlClusterLevel& level, std::size_t k,
                      std::span<glm::vec3> irradiance, Counts* counts) const;
 };
 
