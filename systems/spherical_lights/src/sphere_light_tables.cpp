@@ -11,7 +11,8 @@ constexpr double kPi = 3.14159265358979323846;
 }
 
 template <int N>
-AverageRadianceTable<N>::AverageRadianceTable() : table_(kEntries + 1) {
+AverageRadianceTable<N>::AverageRadianceTable(AverageRadianceWeight weight)
+    : weight_(weight), table_(kEntries + 1) {
   constexpr int kSteps = 2048;
   for (int i = 0; i <= kEntries; ++i) {
     const double s = std::min(static_cast<double>(i) / kEntries, 0.999);
@@ -20,7 +21,9 @@ AverageRadianceTable<N>::AverageRadianceTable() : table_(kEntries + 1) {
     for (int k = 0; k < kSteps; ++k) {
       const double x = s + (k + 0.5) * dx;  // cos alpha
       // [Guerrero08] eq. 17, simplified (header).
-      const double f = (x - s) / std::sqrt(std::max(1e-30, 1.0 - 2.0 * s * x + s * s));
+      const double v2 = std::max(1e-30, 1.0 - 2.0 * s * x + s * s);  // |v|^2, unit distance
+      double f = (x - s) / std::sqrt(v2);
+      if (weight == AverageRadianceWeight::kSolidAngle) f /= v2;  // header: ours
       sh::legendre(x, N, p);
       for (int l = 0; l < N; ++l) z[l] += f * std::sqrt((2 * l + 1) / (4 * kPi)) * p[l] * dx;
       total += f * dx;

@@ -14,6 +14,12 @@
 // turned to the direction from the SL's centre to the receiver in the SL's own frame (the object's
 // inverse rotation, sec. 7.1).
 //
+// AverageRadianceWeight::kSolidAngle (ours): eq. 16 weights each surface point by cos gamma
+// alone, but a surface point's share of what the receiver sees is the solid angle it subtends,
+// cos gamma dA / |v|^2, |v| its distance to the receiver; the two agree for distant SLs and
+// differ near them, where the side facing the receiver counts for more.
+// docs/spherical_light_accuracy.md measures both.
+//
 // cap_cosine_integral: int over the cap of max(0, n.w) dw, exact, the cap clipped by the
 // receiver's horizon (the sphere form factor times pi; Snyder's closed form as in Lagarde and de
 // Rousiers, "Moving Frostbite to PBR", SIGGRAPH 2014 course, eq. 20).
@@ -30,11 +36,14 @@
 
 namespace penumbra::spherical_lights {
 
+enum class AverageRadianceWeight { kCosine, kSolidAngle };
+
 template <int N>
 class AverageRadianceTable {
  public:
   static constexpr int kEntries = 256;
-  AverageRadianceTable();
+  explicit AverageRadianceTable(AverageRadianceWeight weight = AverageRadianceWeight::kCosine);
+  AverageRadianceWeight weight() const { return weight_; }
   // w_theta for an SL of sin(angular radius) `sin_angle` (clamped to [0, 1)).
   sh::Zonal<N> weights(float sin_angle) const;
   // Eq. 18: the average radiance of an SL with radiance SH `radiance` (its frame) towards a
@@ -43,6 +52,7 @@ class AverageRadianceTable {
                              const glm::vec3& to_receiver) const;
 
  private:
+  AverageRadianceWeight weight_;
   std::vector<sh::Zonal<N>> table_;  // kEntries + 1 rows, sin theta = i / kEntries
 };
 
