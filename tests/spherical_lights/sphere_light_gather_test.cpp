@@ -219,9 +219,12 @@ double relative_rms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3
 
 TEST(SphereLightGather, ClusteredShadingStaysCloseToPerReceiverAndSkipsFarWork) {
   const ClusterScene scene = cluster_scene();
-  for (SlBlocking b : {SlBlocking::kPerSphere, SlBlocking::kPerObject}) {
-    SphereLightSettings st = settings(b);
+  for (int mode = 0; mode < 4; ++mode) {
+    SphereLightSettings st = settings(mode % 2 ? SlBlocking::kPerObject : SlBlocking::kPerSphere);
     st.blocker.min_sin = 0.05f;
+    // kClip keeps SLs that cross a receiver's plane whole, so they are never far: more of them
+    // go through the per-receiver path (this scene's SLs mostly touch the ground).
+    st.horizon = mode < 2 ? EmitterHorizon::kShrink : EmitterHorizon::kClip;
     SphereLightGather<4> g(st);
     g.set_lights(scene.lights);
     std::vector<glm::vec3> exact(scene.points.size()), clustered(scene.points.size());
@@ -233,7 +236,11 @@ TEST(SphereLightGather, ClusteredShadingStaysCloseToPerReceiverAndSkipsFarWork) 
     g.shade(c, clustered, &by_cluster);
     EXPECT_LT(relative_rms(clustered, exact), 0.02);
     EXPECT_GT(by_cluster.far, 0u);
-    EXPECT_LT(by_cluster.views, per_receiver.views / 2);
+    if (st.horizon == EmitterHorizon::kShrink) {
+      EXPECT_LT(by_cluster.views, per_receiver.views / 2);
+    } else {
+      EXPECT_LT(by_cluster.views, 3 * per_receiver.views);  // measured: 2.2x
+    }
     std::vector<glm::vec3> parallel(scene.points.size());
     g.shade(c, parallel);  // the same without counts, in parallel
     for (std::size_t i = 0; i < parallel.size(); ++i) EXPECT_EQ(parallel[i], clustered[i]);

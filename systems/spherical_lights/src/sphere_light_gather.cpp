@@ -29,13 +29,43 @@ float smoothstep01(float x) {
 
 // One SL as the receiver sees it (after the plane rule).
 struct View {
-  blocker_accumulation::BlockerView v;
-  float cos_angle;  // sqrt(1 - sin_angle^2)
-  float angle;      // asin(sin_angle), computed when first needed (< 0: not yet)
-  float key0;       // order: object distance (kPerObject) or 0
-  float key1;       // centre distance
+  blocker_accumulation::BlockerView v;   // as a blocker (the plane rule)
+  blocker_accumulation::BlockerView ev;  // as an emitter (EmitterHorizon)
+  float ecos;                            // sqrt(1 - ev.sin_angle^2)
+  float cos_angle;                       // sqrt(1 - sin_angle^2)
+  float angle;  // asin(sin_angle), computed when first needed (< 0: not yet)
+  float key0;   // order: object distance (kPerObject) or 0
+  float key1;   // centre distance
   std::uint32_t light;
 };
+
+// The SL (c, r) as an emitter seen from p with unit normal n under EmitterHorizon::kClip
+// (sphere_light_gather.h): the whole sphere from 1.25 radii out, the plane rule's sphere inside
+// it, and the two blended (centre, radius and weight) between.
+blocker_accumulation::BlockerView emitter_view(const glm::vec3& p, const glm::vec3& n,
+                                               const glm::vec3& c, float r,
+                                               const blocker_accumulation::BlockerView& plane,
+                                               float min_sin) {
+  blocker_accumulation::BlockerView v;
+  if (!(r > 0)) return v;
+  const float d = glm::length(c - p);
+  const float s = smoothstep01((d / r - 1.0f) * 4.0f);  // 0 inside, 1 from 1.25 r
+  if (s <= 0) return plane;
+  const float t = glm::dot(n, c - p) + r;
+  if (!(t > 0)) return v;  // wholly below the plane: no light either way
+  const float r1 = std::min(r, 0.5f * t);
+  const glm::vec3 c1 = c + (r - r1) * n;  // the plane rule's sphere (sphere_blocker.cpp)
+  const glm::vec3 cb = c1 + s * (c - c1);
+  const float rb = r1 + s * (r - r1);
+  const float db = glm::length(cb - p);
+  if (!(db > 0)) return v;
+  v.axis = (cb - p) / db;
+  v.sin_angle = std::min(rb / db, 1.0f);
+  v.weight = smoothstep01(t / (2 * r));
+  v.weight += s * (1.0f - v.weight);
+  if (min_sin > 0) v.weight *= smoothstep01((v.sin_angle - min_sin) / min_sin);
+  return v;
+}
 
 float angle_of(View& v) {
   if (v.angle < 0) v.angle = std::asin(std::min(v.v.sin_angle, 1.0f));
@@ -62,6 +92,7 @@ template <int N>
 SphereLightGather<N>::SphereLightGather(const SphereLightSettings& settings)
     : settings_(settings),
       log_eps_(std::log(std::max(settings.blocker.epsilon, 1e-6f))),
+      table_(settings.radiance_weight),
       clamped_cosine_(sh::zh_clamped_cosine<N>()) {
   cap_exp_.resize((kExpSin + 1) * (kExpWeight + 1));
   for (int i = 0; i <= kExpSin; ++i) {
@@ -159,6 +190,7 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
   if (lights_.size() > kStack) heap.resize(lights_.size()), views = heap.data();
   int count = 0;
   const bool per_object = settings_.blocking == SlBlocking::kPerObject;
+  const bool clip = settings_.horizon == EmitterHorizon::kClip;
   std::size_t looked = 0;
   for (std::uint32_t o = 0; o + 1 < object_first_.size(); ++o) {
     // The object's bound first (header: ours): exact when p is outside it.
@@ -176,10 +208,19 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
       ++looked;
       const blocker_accumulation::BlockerView v =
           blocker_accumulation::view_blocker(p, n, l.centre, l.radius, blocker);
-      if (!(v.weight > 0)) continue;
+      const blocker_accumulation::BlockerView ev =
+          clip && emits_[i] ? emitter_view(p, n, l.centre, l.radius, v, min_sin) : v;
+      if (!(v.weight > 0) && !(ev.weight > 0)) continue;
       const float d = glm::length(l.centre - p);
-      const float s = std::min(v.sin_angle, 1.0f);
-      views[count++] = {v, std::sqrt(std::max(0.0f, 1 - s * s)), -1.0f, key0, d, i};
+      const float s = std::min(v.sin_angle, 1.0f), es = std::min(ev.sin_angle, 1.0f);
+      views[count++] = {v,
+                        ev,
+                        std::sqrt(std::max(0.0f, 1 - es * es)),
+                        std::sqrt(std::max(0.0f, 1 - s * s)),
+                        -1.0f,
+                        key0,
+                        d,
+                        i};
     }
   }
   if (counts) {
@@ -210,13 +251,13 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
     if (!emits_[e.light] || (skip && skip[e.light])) continue;
     if (counts) ++counts->emitters;
     // [Guerrero08] eq. 18, towards p in the SL's own frame (sec. 7.1).
-    const glm::vec3 to_receiver = glm::normalize(li.to_local * -e.v.axis);
-    const glm::vec3 radiance =
-        glm::max(table_.average_radiance(li.radiance, e.v.sin_angle, to_receiver), glm::vec3(0.0f));
+    const glm::vec3 to_receiver = glm::normalize(li.to_local * -e.ev.axis);
+    const glm::vec3 radiance = glm::max(
+        table_.average_radiance(li.radiance, e.ev.sin_angle, to_receiver), glm::vec3(0.0f));
     if (ratio_out) ratio_out[e.light] = glm::vec3(0.0f);  // seen here
     if (radiance.x <= 0 && radiance.y <= 0 && radiance.z <= 0) continue;
-    const float cos_n = glm::dot(n, e.v.axis);
-    const float unblocked = cap_cosine_integral(e.v.sin_angle, cos_n);
+    const float cos_n = glm::dot(n, e.ev.axis);
+    const float unblocked = cap_cosine_integral(e.ev.sin_angle, cos_n);
     if (!(unblocked > 0)) continue;
 
     // Blockers in front whose caps overlap S_i's (header: ours), faded in over the overlap.
@@ -230,15 +271,15 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
       if (counts) ++counts->pairs;
       // Overlap: the angle between the axes is below the sum of the half-angles, i.e. its cosine
       // is above cos(a_i + a_j) (always when the sum passes pi).
-      const float cos_between = glm::dot(e.v.axis, b.v.axis);
-      const float cos_sum = e.cos_angle * b.cos_angle - e.v.sin_angle * b.v.sin_angle;
-      const bool wide = e.cos_angle * b.v.sin_angle + e.v.sin_angle * b.cos_angle < 0;  // sum > pi
+      const float cos_between = glm::dot(e.ev.axis, b.v.axis);
+      const float cos_sum = e.ecos * b.cos_angle - e.ev.sin_angle * b.v.sin_angle;
+      const bool wide = e.ecos * b.v.sin_angle + e.ev.sin_angle * b.cos_angle < 0;  // sum > pi
       if (!wide && !(cos_between > cos_sum)) continue;
       if (lj.object == li.object && glm::length(lj.centre - li.centre) < lj.radius + li.radius) {
         continue;  // [Guerrero08] sec. 6.2: intersecting SLs of one object
       }
       const float between = std::acos(std::clamp(cos_between, -1.0f, 1.0f));
-      const float overlap = angle_of(e) + angle_of(b) - between;
+      const float overlap = std::asin(std::min(e.ev.sin_angle, 1.0f)) + angle_of(b) - between;
       if (!(overlap > 0)) continue;
       blocker_accumulation::BlockerView faded = b.v;
       faded.weight *= smoothstep01(overlap / (0.25f * std::max(b.angle, 1e-6f)));
@@ -250,10 +291,10 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
     }
     if (added == 0) {
       if (ratio_out) ratio_out[e.light] = radiance;  // V~ = C
-      total += e.v.weight * radiance * unblocked;    // eq. 14
+      total += e.ev.weight * radiance * unblocked;   // eq. 14
       continue;
     }
-    blocker_accumulation::BlockerView own = e.v;
+    blocker_accumulation::BlockerView own = e.ev;
     own.weight = 1;
     // [Guerrero08] eq. 23-24, less what they give with nothing in front (header): exp(G_i)
     // and, with one blocker, exp(G) from the table of lone caps; the SH exponentials are
@@ -261,9 +302,9 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
     Pending q;
     q.light = e.light;
     q.unblocked = unblocked;
-    q.light_weighted = e.v.weight * radiance;
+    q.light_weighted = e.ev.weight * radiance;
     q.radiance = radiance;
-    q.partial = zonal_dot<N>(clamped_cosine_, cap_exp_zonal(e.v.sin_angle, 1.0f), cos_n) -
+    q.partial = zonal_dot<N>(clamped_cosine_, cap_exp_zonal(e.ev.sin_angle, 1.0f), cos_n) -
                 clamped_cosine_[0] * sqrt_4pi;
     q.front = -1;
     if (added == 1) {
@@ -439,6 +480,7 @@ bool SphereLightGather<N>::has_near(const SlClusterLevel& level, std::size_t k,
     const glm::vec3 c1 = l.centre + (l.radius - r1) * normal;
     const float d1 = glm::length(c1 - centre);
     const float vary = level.thickness[k] + level.spread[k] * (d1 + radius);
+    if (settings_.horizon == EmitterHorizon::kClip && t - vary < 2 * l.radius) return true;
     if (!(r1 > 0 && radius <= far_ratio * (d1 - r1) && vary <= 0.01f * r1)) return true;
   }
   return false;
@@ -497,8 +539,11 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
     // The shrunk cap touches or clears the centre's plane; every receiver's plane is within
     // `vary` of it, so its own shrunk sphere differs by at most 1% of r1.
     const float vary = level.thickness[k] + level.spread[k] * (d1 + radius);
+    // Under kClip only a sphere wholly above every receiver's plane is far (the plane rule then
+    // leaves it whole, so the far path's cap is the emitter's own).
+    const bool above = settings_.horizon != EmitterHorizon::kClip || t - vary >= 2 * l.radius;
     const bool is_far =
-        r1 > 0 && radius <= clusters.settings.far_ratio * (d1 - r1) && vary <= 0.01f * r1;
+        above && r1 > 0 && radius <= clusters.settings.far_ratio * (d1 - r1) && vary <= 0.01f * r1;
     shrunk[i] = {c1, r1, smoothstep01(t / (2 * l.radius)), is_far};
     far[i] = is_far ? 1 : 0;
     any_far = any_far || is_far;

@@ -7,7 +7,9 @@
 // At a receiver p with unit normal n ([Guerrero08] eq. 14): E = sum_i L~_i V~_i, where
 //  - every SL is first seen through the plane rule of the blocker system (sphere_blocker.h,
 //    [Guerrero08] sec. 6.2 "receiver points inside SLs"): culled below the tangent plane,
-//    shrunk above it, faded by its weight; SLs smaller than min_sin are skipped;
+//    shrunk above it, faded by its weight; SLs smaller than min_sin are skipped. As emitters,
+//    SLs the receiver is outside of keep their whole sphere under EmitterHorizon::kClip (the
+//    default; below);
 //  - L~_i, the SL's average radiance towards p, is eq. 18 (sphere_light_tables.h);
 //  - V~_i, its average visibility, is eq. 23-24: (exp(G_<i) - exp(G_<i + G_i)) . rho_n, G the
 //    log-SH eps caps of the blockers in front (sphere_blocker.h, [Giraud] eq. 26).
@@ -83,10 +85,23 @@ struct SphereLightSource {
   bool blocks = true;           // false: emits only (a local light)
 };
 
+// How an emitting SL that crosses the receiver's tangent plane is seen:
+//  - kShrink ([Guerrero08] sec. 6.2, after [Ren06]): like a blocker, by the plane rule (shrunk
+//    above the plane and faded by its weight), so SLs at the horizon give too little light
+//    ([Guerrero08] sec. 8.1: at 90 degrees a quarter of the exact value);
+//  - kClip (ours): the whole sphere, its cap clipped by the horizon exactly in
+//    cap_cosine_integral. The plane rule stays for receivers inside or touching an SL (distance
+//    below its radius) and is blended out up to 1.25 radii, so nothing jumps; blockers always
+//    take the plane rule.
+enum class EmitterHorizon { kShrink, kClip };
+
 struct SphereLightSettings {
   SlBlocking blocking = SlBlocking::kPerSphere;
   // The blockers' eps, the plane rule's smallest SL (min_sin) and the rest (sphere_blocker.h).
   blocker_accumulation::SphereBlockerSettings blocker;
+  EmitterHorizon horizon = EmitterHorizon::kClip;
+  // Eq. 16's weight (kCosine) or the exact solid angle (sphere_light_tables.h).
+  AverageRadianceWeight radiance_weight = AverageRadianceWeight::kCosine;
   bool operator==(const SphereLightSettings&) const = default;
 };
 
