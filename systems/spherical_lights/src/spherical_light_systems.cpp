@@ -85,6 +85,11 @@ void reflect(ecs::World& w) {
   if (!field.gather || field.gather->settings() != settings.settings) {
     field.gather = std::make_shared<SphereLightGather<N>>(settings.settings);
   }
+  SphereLightSettings terrain_settings = settings.settings;
+  terrain_settings.horizon = settings.terrain_horizon;
+  if (!field.terrain_gather || field.terrain_gather->settings() != terrain_settings) {
+    field.terrain_gather = std::make_shared<SphereLightGather<N>>(terrain_settings);
+  }
   const blocker_accumulation::BlockerField* blockers =
       w.try_resource<const blocker_accumulation::BlockerField>();
   std::vector<SphereLightSource<N>> lights;
@@ -151,6 +156,7 @@ void reflect(ecs::World& w) {
   }
   ++field.frame;
   field.lights = lights.size();
+  field.terrain_gather->set_lights(lights);
   field.gather->set_lights(std::move(lights));
 }
 
@@ -257,15 +263,15 @@ void shade_terrain(jobs::SystemContext& ctx) {
         // What the systems before us published this frame; our own array means nobody did.
         if (lighting.rgb != state->published) state->input = lighting.rgb;
         if (!state->input) return;
-        const bool on = settings.indirect && field.gather && !field.gather->lights().empty() &&
-                        terrain.heights && h.normals;
+        const bool on = settings.indirect && field.terrain_gather &&
+                        !field.terrain_gather->lights().empty() && terrain.heights && h.normals;
         if (on) {
           const blocker_accumulation::TerrainReceivers t{terrain.heights.get(), terrain.origin,
                                                          terrain.height_scale, nullptr,
                                                          h.normals.get()};
           const int period = std::max(1, settings.terrain_period);
           state->reached = update_terrain_indirect<N>(
-              t, *field.gather, settings.terrain_min_sin, state->indirect,
+              t, *field.terrain_gather, settings.terrain_min_sin, state->indirect,
               static_cast<int>(state->frame % static_cast<std::uint64_t>(period)), period);
         } else {
           state->reached = 0;

@@ -20,8 +20,8 @@
 //   spherical_lights.terrain  reads Terrain, TerrainHorizons, SphericalLightField,
 //       SphericalLightSettingsResource; writes TerrainLighting, SphericalLightTerrainState
 //       (adds it to a terrain, structural)
-//       The bounce on the terrain's texels near the lights (terrain_indirect.h), rows spread
-//       over `terrain_period` frames, added as indirect / pi to what the systems before it
+//       The bounce on the terrain's texels near the lights (terrain_indirect.h; its own gather
+//       with terrain_horizon), rows spread over `terrain_period` frames, added as indirect / pi to what the systems before it
 //       published (register after add_blocker_systems: the blockers' shadowed terrain).
 // render_extract adds indirect / pi to the VertexLighting it draws (radiance per unit albedo).
 #pragma once
@@ -55,6 +55,9 @@ struct SphericalLightSettingsResource {
   // radius / terrain_min_sin), each reached row once every `terrain_period` frames.
   float terrain_min_sin = 0.15f;
   int terrain_period = 4;
+  // The horizon rule for terrain texels: the ground around objects resting on it is where
+  // EmitterHorizon::kClip is exact and the shrink loses a third (docs/spherical_light_accuracy.md).
+  EmitterHorizon terrain_horizon = EmitterHorizon::kClip;
 };
 
 // Per terrain entity: what spherical_lights.terrain keeps between frames.
@@ -69,6 +72,7 @@ struct SphericalLightTerrainState {
 // Resource: this frame's spherical lights, written by spherical_lights.reflect.
 struct SphericalLightField {
   std::shared_ptr<SphereLightGather<kSystemBands>> gather;
+  std::shared_ptr<SphereLightGather<kSystemBands>> terrain_gather;  // terrain_horizon's
   std::shared_ptr<const ReflectorLighting<kSystemBands>> lighting;  // cell sums, per direction set
   std::size_t lights = 0;                                           // spherical lights this frame
   std::size_t sample_points = 0;  // sample points lit this frame (pass 1)
