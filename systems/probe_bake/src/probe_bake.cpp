@@ -1,0 +1,227 @@
+// The probe bake (probe_bake.h): grid placement, radiance_sh capture with back faces from the
+// scene's solids, virtual offset, dilation, Delaunay build ([Sukys14] sec. 3.1, 3.2).
+#include "penumbra/systems/probe_bake/probe_bake.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <glm/geometric.hpp>
+
+#include "penumbra/reference/radiance_sh.h"
+#include "penumbra/sh/convolution.h"
+#include "penumbra/systems/probe_cloud/probe_cloud_build.h"
+#include "penumbra/systems/probe_cloud/probe_cloud_validation.h"
+
+namespace penumbra::probe_bake {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+struct Capture {
+  std::vector<float> sh;  // irradiance, 3 b^2 per point (cloud layout)
+  std::vector<float> share, dc_err, dc;
+  std::vector<glm::vec3> escape_dir;
+  std::vector<float> escape_distance;
+  std::uint64_t rays = 0;
+};
+
+template <int N>
+void capture(const reference::Scene& traced, const BakeScene& scene,
+             std::span<const glm::vec3> points, const reference::RadianceShOptions& base,
+             std::uint64_t first_index, Capture& out, std::size_t chunk, std::size_t& done,
+             std::size_t total, const BakeProgress& progress) {
+  constexpr int kC = N * N;
+  const std::size_t n = points.size();
+  out.sh.assign(n * 3 * kC, 0.0f);
+  out.share.assign(n, 0.0f);
+  out.dc_err.assign(n, 0.0f);
+  out.dc.assign(n, 0.0f);
+  out.escape_dir.assign(n, glm::vec3(0.0f));
+  out.escape_distance.assign(n, 0.0f);
+  reference::RadianceShOptions o = base;
+  o.back_face = [&scene](const glm::vec3& origin, const glm::vec3& dir, const reference::Hit& h) {
+    // The point just before the hit, on the ray's side: inside a solid -> the ray leaves it.
+    const float back = std::min(0.5f * h.distance, 1e-3f);
+    return scene.inside(origin + (h.distance - back) * dir);
+  };
+  // Irradiance DC = pi * radiance DC (band 0 weight of irradiance_convolve).
+  const float kPi = 3.14159265358979f;
+  for (std::size_t start = 0; start < n; start += chunk) {
+    const std::size_t count = std::min(chunk, n - start);
+    o.first_index = first_index + start;
+    const auto est = reference::radiance_sh<N>(traced, points.subspan(start, count), o);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = start + k;
+      const auto& e = est[k];
+      for (int c = 0; c < 3; ++c) {
+        const sh::Coeffs<N> irr = sh::irradiance_convolve<N>(e.mean[c]);
+        std::copy(irr.begin(), irr.end(),
+                  out.sh.begin() + static_cast<std::ptrdiff_t>((i * 3 + c) * kC));
+        out.dc_err[i] = std::max(out.dc_err[i], kPi * e.std_error[c][0]);
+        out.dc[i] += irr[0] / 3;
+      }
+      out.share[i] = e.back_face_share();
+      out.escape_dir[i] = e.escape_dir;
+      out.escape_distance[i] = e.escape_distance;
+      out.rays += e.rays;
+    }
+    done += count;
+    if (progress) progress(done, total);
+  }
+}
+
+void capture_any(int bands, const reference::Scene& traced, const BakeScene& scene,
+                 std::span<const glm::vec3> points, const reference::RadianceShOptions& o,
+                 std::uint64_t first_index, Capture& out, std::size_t chunk, std::size_t& done,
+                 std::size_t total, const BakeProgress& progress) {
+  switch (bands) {
+    case 2:
+      return capture<2>(traced, scene, points, o, first_index, out, chunk, done, total, progress);
+    case 3:
+      return capture<3>(traced, scene, points, o, first_index, out, chunk, done, total, progress);
+    default:
+      return capture<4>(traced, scene, points, o, first_index, out, chunk, done, total, progress);
+  }
+}
+
+}  // namespace
+
+data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const BakeSettings& settings,
+                                  BakeReport* report, const BakeProgress& progress) {
+  const reference::Scene traced(scene.desc);
+  return bake_probe_cloud(scene, traced, settings, report, progress);
+}
+
+data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene& traced,
+                                  const BakeSettings& s, BakeReport* report,
+                                  const BakeProgress& progress) {
+  const auto t0 = Clock::now();
+  if (s.bands < data::kProbeMinBands || s.bands > data::kProbeMaxBands)
+    throw std::invalid_argument("bake_probe_cloud: bands = " + std::to_string(s.bands) +
+                                " must be in 2..4");
+  if (s.samples < 2) throw std::invalid_argument("bake_probe_cloud: samples must be >= 2");
+  if (!(s.spacing >= 0) || !std::isfinite(s.spacing))
+    throw std::invalid_argument("bake_probe_cloud: spacing must be finite and >= 0");
+  ProbeVolume volume = scene.volume;
+  if (s.spacing > 0) volume.spacing = s.spacing;
+  const float spacing = volume.spacing;
+
+  std::vector<glm::vec3> placed;
+  switch (s.placement) {
+    case PlacementMethod::kGrid:
+      placed = grid_points(volume);
+      break;
+  }
+  const std::size_t n = placed.size();
+  const std::size_t stride = static_cast<std::size_t>(3 * s.bands * s.bands);
+  BakeReport rep;
+  rep.probes.resize(n);
+
+  reference::RadianceShOptions o;
+  o.samples = s.samples;
+  o.bounce_samples = s.bounce_samples;
+  o.bounce = s.bounce;
+  o.seed = s.seed;
+  const std::size_t chunk = std::max<std::size_t>(1, s.chunk);
+  std::size_t done = 0, total = n;
+  Capture first;
+  capture_any(s.bands, traced, scene, placed, o, 0, first, chunk, done, total, progress);
+  rep.capture_seconds = seconds_since(t0);
+  rep.rays += first.rays;
+
+  std::vector<glm::vec3> positions = placed;
+  std::vector<float> sh = first.sh;
+  std::vector<ProbeState> state(n, ProbeState::kValid);
+  for (std::size_t i = 0; i < n; ++i) {
+    rep.probes[i].placed = placed[i];
+    rep.probes[i].back_face_share = first.share[i];
+    rep.probes[i].dc_std_error = first.dc_err[i];
+    rep.probes[i].dc = first.dc[i];
+  }
+  const auto t1 = Clock::now();
+  if (s.validity) {
+    const ValiditySettings& v = s.validity_settings;
+    std::vector<std::size_t> moved;
+    std::vector<glm::vec3> moved_to;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!(first.share[i] > v.invalid_share)) continue;
+      state[i] = ProbeState::kBlack;  // invalid until offset or dilated
+      if (first.escape_distance[i] <= v.max_offset * spacing) {
+        moved.push_back(i);
+        moved_to.push_back(placed[i] + first.escape_dir[i] *
+                                           (first.escape_distance[i] + v.clearance * spacing));
+      }
+    }
+    if (!moved.empty()) {
+      total += moved.size();
+      if (progress) progress(done, total);
+      Capture second;
+      // Streams n + k: independent of the first pass, fixed for the same inputs.
+      capture_any(s.bands, traced, scene, moved_to, o, n, second, chunk, done, total, progress);
+      rep.rays += second.rays;
+      for (std::size_t k = 0; k < moved.size(); ++k) {
+        if (second.share[k] > v.invalid_share) continue;
+        const std::size_t i = moved[k];
+        state[i] = ProbeState::kOffset;
+        positions[i] = moved_to[k];
+        std::copy_n(second.sh.begin() + static_cast<std::ptrdiff_t>(k * stride), stride,
+                    sh.begin() + static_cast<std::ptrdiff_t>(i * stride));
+        rep.probes[i].back_face_share = second.share[k];
+        rep.probes[i].dc_std_error = second.dc_err[k];
+        rep.probes[i].dc = second.dc[k];
+      }
+    }
+    rep.black =
+        dilate(positions, state, sh, stride, v.dilation_radius * spacing, v.dilation_passes);
+  }
+  rep.validity_seconds = seconds_since(t1);
+  double rel_sum = 0;
+  std::size_t rel_count = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ProbeRecord& r = rep.probes[i];
+    r.position = positions[i];
+    r.state = state[i];
+    switch (state[i]) {
+      case ProbeState::kValid:
+        ++rep.valid;
+        break;
+      case ProbeState::kOffset:
+        ++rep.offset;
+        break;
+      case ProbeState::kDilated:
+        ++rep.dilated;
+        break;
+      case ProbeState::kBlack:
+        break;
+    }
+    if ((state[i] == ProbeState::kValid || state[i] == ProbeState::kOffset) && r.dc > 0) {
+      const double rel = r.dc_std_error / r.dc;
+      rel_sum += rel;
+      ++rel_count;
+      rep.max_rel_std_error = std::max(rep.max_rel_std_error, rel);
+    }
+  }
+  rep.mean_rel_std_error = rel_count ? rel_sum / static_cast<double>(rel_count) : 0.0;
+
+  const auto t2 = Clock::now();
+  probe_cloud::ProbeCloudBuildSettings build;
+  build.bands = s.bands;
+  probe_cloud::ProbeCloudBuildReport br;
+  data::ProbeCloud cloud = probe_cloud::build_probe_cloud(positions, sh, build, &br);
+  rep.merged = br.merged_duplicates;
+  const auto validation = probe_cloud::validate_probe_cloud(cloud);
+  rep.valid_cloud = validation.ok();
+  rep.validation_errors = validation.errors;
+  rep.build_seconds = seconds_since(t2);
+  rep.total_seconds = seconds_since(t0);
+  if (report) *report = std::move(rep);
+  return cloud;
+}
+
+}  // namespace penumbra::probe_bake

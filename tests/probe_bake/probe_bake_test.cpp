@@ -1,0 +1,277 @@
+// The bake (probe_bake.h): stability cases, validity, determinism, accuracy against the
+// reference integrator in the room scene (docs/probe_bake.md, "Accuracy").
+#include "penumbra/systems/probe_bake/probe_bake.h"
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+#include <glm/geometric.hpp>
+
+#include "penumbra/assets/probe_cloud_file.h"
+#include "penumbra/reference/estimators.h"
+#include "penumbra/sh/basis.h"
+#include "penumbra/systems/probe_cloud/probe_tet_walk.h"
+
+namespace penumbra::probe_bake {
+namespace {
+
+const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
+const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
+
+BakeScene parse(const std::string& json) {
+  return parse_bake_scene(json, "test.json", kData);
+}
+
+bool all_finite(const data::ProbeCloud& c) {
+  for (float v : c.sh)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+bool all_zero(const data::ProbeCloud& c) {
+  for (float v : c.sh)
+    if (v != 0) return false;
+  return true;
+}
+
+BakeSettings fast() {
+  BakeSettings s;
+  s.samples = 64;
+  return s;
+}
+
+TEST(ProbeBake, EmptySceneIsBlackAndValid) {
+  const BakeScene s = parse(R"({"probes": {"min": [0,0,0], "max": [2,2,2], "spacing": 1}})");
+  BakeReport r;
+  const data::ProbeCloud c = bake_probe_cloud(s, fast(), &r);
+  EXPECT_EQ(c.probe_count(), 27u);
+  EXPECT_TRUE(all_zero(c));
+  EXPECT_TRUE(r.valid_cloud);
+  EXPECT_EQ(r.valid, 27u);
+  EXPECT_NO_THROW(assets::encode_probe_cloud_file(c));
+}
+
+TEST(ProbeBake, NoLightIsBlack) {
+  // The room without its lamp: geometry, albedo, nothing emits.
+  BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
+  s.desc.lights.clear();
+  BakeReport r;
+  const data::ProbeCloud c = bake_probe_cloud(s, fast(), &r);
+  EXPECT_TRUE(all_zero(c));
+  EXPECT_TRUE(r.valid_cloud);
+  EXPECT_EQ(r.black, 0u);
+}
+
+// A probe volume wholly inside a 100 m box: every probe invalid, none can be pushed out
+// (max offset 0.5 spacing), no valid neighbour: the documented fallback is black probes in a
+// valid cloud.
+TEST(ProbeBake, AllProbesInvalidFallBackToBlack) {
+  const BakeScene s = parse(R"({
+    "geometry": [{"kind": "box", "center": [0,0,0], "size": [100,100,100], "albedo": [0.5,0.5,0.5]}],
+    "lights": [{"center": [0,0,80], "radius": 1, "radiance": [10,10,10]}],
+    "probes": {"min": [-2,-2,-2], "max": [2,2,2], "spacing": 1}})");
+  BakeReport r;
+  const data::ProbeCloud c = bake_probe_cloud(s, fast(), &r);
+  EXPECT_EQ(r.black, 125u);
+  EXPECT_EQ(r.valid + r.offset + r.dilated, 0u);
+  EXPECT_TRUE(all_zero(c));
+  EXPECT_TRUE(r.valid_cloud);
+  for (const ProbeRecord& p : r.probes) EXPECT_EQ(p.back_face_share, 1.0f);
+}
+
+// Probes exactly on surfaces: a grid whose bottom layer lies on the floor's top face (z = 0)
+// and whose x = 0 plane lies on a wall's face. Finite SH, a valid cloud, and no probe is left
+// with a capture from inside the geometry.
+TEST(ProbeBake, ProbesExactlyOnSurfaces) {
+  const BakeScene s = parse(R"({
+    "geometry": [{"kind": "box", "center": [0,0,-0.5], "size": [20,20,1], "albedo": [0.5,0.5,0.5]},
+                 {"kind": "box", "center": [-0.5,0,2], "size": [1,20,4], "albedo": [0.5,0.5,0.5]}],
+    "lights": [{"center": [3,0,5], "radius": 0.5, "radiance": [50,50,50]}],
+    "probes": {"min": [0,-2,0], "max": [4,2,3], "spacing": 1}})");
+  BakeReport r;
+  const data::ProbeCloud c = bake_probe_cloud(s, fast(), &r);
+  EXPECT_TRUE(all_finite(c));
+  EXPECT_TRUE(r.valid_cloud);
+  EXPECT_EQ(r.probes.size(), 5u * 5u * 4u);
+  for (const ProbeRecord& p : r.probes) {
+    if (p.state == ProbeState::kValid || p.state == ProbeState::kOffset) {
+      EXPECT_LE(p.back_face_share, 0.25f);
+    }
+  }
+}
+
+TEST(ProbeBake, NanInSceneRejectedNamingTheFile) {
+  try {
+    parse_bake_scene(R"({"geometry": [{"kind": "sphere", "center": [0, NaN, 0], "radius": 1}],
+                         "probes": {"min": [0,0,0], "max": [1,1,1], "spacing": 1}})",
+                     "scenes/nan.json", kData);
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("scenes/nan.json"), std::string::npos) << e.what();
+  }
+}
+
+// Validity in the room: the x = 0 column of the grid lies inside the inner wall. Without
+// validity those probes capture black; with it none is left inside a solid and none is black.
+TEST(ProbeBake, RoomValidity) {
+  const BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
+  BakeSettings b = fast();
+  b.validity = false;
+  BakeReport before, after;
+  bake_probe_cloud(s, b, &before);
+  std::size_t inside = 0, black_inside = 0;
+  for (const ProbeRecord& p : before.probes)
+    if (s.inside(p.placed)) {
+      ++inside;
+      black_inside += p.dc == 0;
+      EXPECT_GT(p.back_face_share, 0.25f);
+    }
+  EXPECT_EQ(inside, 26u);  // inner wall: x = 0, y = -3.5 .. 1.5, 4 heights; 2 in the ball
+  EXPECT_EQ(black_inside, inside);
+  b.validity = true;
+  const data::ProbeCloud c = bake_probe_cloud(s, b, &after);
+  EXPECT_EQ(after.offset + after.dilated, inside);
+  EXPECT_EQ(after.black, 0u);
+  // No probe is left inside a solid; the moved ones were captured with few back faces. (Their
+  // light may be 0 on the wall's dark side at 64 samples: no bounce sample found a lit surface.)
+  ASSERT_EQ(c.probe_count(), after.probes.size());  // input order kept, no merges here
+  for (std::size_t i = 0; i < c.probe_count(); ++i) {
+    const ProbeRecord& p = after.probes[i];
+    EXPECT_FALSE(s.inside(p.position)) << i;
+    EXPECT_EQ(c.positions[i], p.position);
+    if (p.state == ProbeState::kOffset) {
+      EXPECT_LE(p.back_face_share, 0.25f);
+      EXPECT_LE(glm::length(p.position - p.placed), 0.6f);  // max offset 0.5 + clearance 0.1
+    }
+  }
+}
+
+TEST(ProbeBake, SameBytesForAnyThreadCountAndChunk) {
+  const BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
+  BakeSettings b = fast();
+  std::vector<unsigned char> one, two;
+  tbb::task_arena(1).execute(
+      [&] { one = assets::encode_probe_cloud_file(bake_probe_cloud(s, b)); });
+  b.chunk = 7;
+  tbb::task_arena(2).execute(
+      [&] { two = assets::encode_probe_cloud_file(bake_probe_cloud(s, b)); });
+  EXPECT_EQ(one, two);
+  b.seed = 2;
+  EXPECT_NE(assets::encode_probe_cloud_file(bake_probe_cloud(s, b)), one);
+}
+
+TEST(ProbeBake, Bands) {
+  const BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
+  for (int bands : {2, 4}) {
+    BakeSettings b = fast();
+    b.bands = bands;
+    const data::ProbeCloud c = bake_probe_cloud(s, b);
+    EXPECT_EQ(c.bands, bands);
+    EXPECT_EQ(c.sh.size(), c.probe_count() * 3 * bands * bands);
+  }
+  BakeSettings b = fast();
+  b.bands = 5;
+  EXPECT_THROW(bake_probe_cloud(s, b), std::invalid_argument);
+}
+
+// Accuracy: relative RMS error of the interpolated irradiance against the reference
+// integrator (direct + one bounce) at random free points of the room, six axis normals each,
+// per grid spacing; and the leak metric at points within one spacing of the inner wall on its
+// dark (+x) side, with and without validity. Prints the table of docs/probe_bake.md.
+struct Errors {
+  double all = 0, leak = 0;
+};
+
+double irradiance(const probe_cloud::ProbeSh& e, const glm::vec3& n, int c) {
+  const auto y = sh::eval_basis<probe_cloud::kProbeShBands>(n);
+  double v = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) v += e[c][i] * y[i];
+  return v;
+}
+
+TEST(ProbeBakeAccuracy, RoomErrorVersusSpacing) {
+  const BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
+  const reference::Scene traced(s.desc);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> ux(-4.6f, 4.6f), uy(-3.6f, 3.6f), uz(0.3f, 3.7f);
+  std::vector<glm::vec3> free, leak;
+  while (free.size() < 120) {
+    const glm::vec3 p(ux(rng), uy(rng), uz(rng));
+    bool clear = !s.inside(p);
+    for (float d : {0.1f, -0.1f})
+      for (int k = 0; k < 3; ++k) {
+        glm::vec3 q = p;
+        q[k] += d;
+        clear = clear && !s.inside(q);
+      }
+    if (clear) free.push_back(p);
+  }
+  // Within one (1 m) spacing of the inner wall (|x| < 0.15, y < 2): the dark side (+x, away from
+  // the lamp) and the lit side (-x, the lamp's).
+  std::uniform_real_distribution<float> lx(0.25f, 1.0f), ly(-3.6f, 1.5f);
+  std::vector<glm::vec3> lit;
+  while (leak.size() < 60) leak.emplace_back(lx(rng), ly(rng), uz(rng));
+  while (lit.size() < 60) lit.emplace_back(-lx(rng), ly(rng), uz(rng));
+  const glm::vec3 normals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  auto reference_values = [&](const std::vector<glm::vec3>& pts) {
+    std::vector<reference::Receiver> rec;
+    for (const glm::vec3& p : pts)
+      for (const glm::vec3& n : normals) rec.push_back({p, n});
+    reference::LightOptions lo;
+    lo.samples = 256;
+    reference::BounceOptions bo;
+    bo.samples = 1024;
+    const auto l = reference::light_irradiance(traced, rec, lo);
+    const auto b = reference::indirect_irradiance(traced, rec, bo);
+    std::vector<glm::vec3> out;
+    for (std::size_t i = 0; i < rec.size(); ++i) out.push_back(reference::combine(l[i], b[i]).mean);
+    return out;
+  };
+  const auto ref_free = reference_values(free), ref_leak = reference_values(leak),
+             ref_lit = reference_values(lit);
+  auto error = [&](const data::ProbeCloud& cloud, const std::vector<glm::vec3>& pts,
+                   const std::vector<glm::vec3>& ref) {
+    const probe_cloud::ProbeTetWalk walk(std::make_shared<const data::ProbeCloud>(cloud));
+    double num = 0, den = 0;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const probe_cloud::ProbeSh e = walk.interpolate(walk.locate(pts[i], -1));
+      for (int k = 0; k < 6; ++k)
+        for (int c = 0; c < 3; ++c) {
+          const double d = irradiance(e, normals[k], c) - ref[i * 6 + k][c];
+          num += d * d;
+          den += double(ref[i * 6 + k][c]) * ref[i * 6 + k][c];
+        }
+    }
+    return std::sqrt(num / den);
+  };
+  std::printf(
+      "spacing  probes  rel_rms(off)  rel_rms(on)  dark side(off)  dark(on)  lit side(off)  "
+      "lit(on)  bake_s\n");
+  double coarse = 0, fine = 0;
+  for (float spacing : {2.0f, 1.0f, 0.5f}) {
+    BakeSettings b;
+    b.spacing = spacing;
+    b.samples = 512;
+    BakeReport r_on, r_off;
+    const data::ProbeCloud on = bake_probe_cloud(s, traced, b, &r_on);
+    b.validity = false;
+    const data::ProbeCloud off = bake_probe_cloud(s, traced, b, &r_off);
+    const double e = error(on, free, ref_free);
+    std::printf("%-7g  %6zu  %12.3f  %11.3f  %14.3f  %8.3f  %13.3f  %7.3f  %6.2f\n",
+                double(spacing), on.probe_count(), error(off, free, ref_free), e,
+                error(off, leak, ref_leak), error(on, leak, ref_leak), error(off, lit, ref_lit),
+                error(on, lit, ref_lit), r_on.total_seconds);
+    if (spacing == 2.0f) coarse = e;
+    if (spacing == 0.5f) fine = e;
+    EXPECT_TRUE(r_on.valid_cloud);
+  }
+  EXPECT_LT(fine, coarse);  // more probes, less error
+  EXPECT_LT(fine, 0.5);
+}
+
+}  // namespace
+}  // namespace penumbra::probe_bake
