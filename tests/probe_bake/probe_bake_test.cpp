@@ -248,26 +248,37 @@ TEST(ProbeBakeAccuracy, RoomErrorVersusSpacing) {
     }
     return std::sqrt(num / den);
   };
+  // Validity off; on with one-sided virtual offsets; on with both sides (the default).
   std::printf(
-      "spacing  probes  rel_rms(off)  rel_rms(on)  dark side(off)  dark(on)  lit side(off)  "
-      "lit(on)  bake_s\n");
+      "spacing  probes  rel_rms: off   one-sided  both  | dark side: off  one-sided  both  | "
+      "lit side: off  one-sided  both  | bake_s\n");
   double coarse = 0, fine = 0;
   for (float spacing : {2.0f, 1.0f, 0.5f}) {
     BakeSettings b;
     b.spacing = spacing;
     b.samples = 512;
-    BakeReport r_on, r_off;
-    const data::ProbeCloud on = bake_probe_cloud(s, traced, b, &r_on);
+    BakeReport r[3];
+    data::ProbeCloud c[3];
     b.validity = false;
-    const data::ProbeCloud off = bake_probe_cloud(s, traced, b, &r_off);
-    const double e = error(on, free, ref_free);
-    std::printf("%-7g  %6zu  %12.3f  %11.3f  %14.3f  %8.3f  %13.3f  %7.3f  %6.2f\n",
-                double(spacing), on.probe_count(), error(off, free, ref_free), e,
-                error(off, leak, ref_leak), error(on, leak, ref_leak), error(off, lit, ref_lit),
-                error(on, lit, ref_lit), r_on.total_seconds);
-    if (spacing == 2.0f) coarse = e;
-    if (spacing == 0.5f) fine = e;
-    EXPECT_TRUE(r_on.valid_cloud);
+    c[0] = bake_probe_cloud(s, traced, b, &r[0]);
+    b.validity = true;
+    b.validity_settings.both_sides = false;
+    c[1] = bake_probe_cloud(s, traced, b, &r[1]);
+    b.validity_settings.both_sides = true;
+    c[2] = bake_probe_cloud(s, traced, b, &r[2]);
+    double e[3][3];
+    for (int k = 0; k < 3; ++k) {
+      e[0][k] = error(c[k], free, ref_free);
+      e[1][k] = error(c[k], leak, ref_leak);
+      e[2][k] = error(c[k], lit, ref_lit);
+      EXPECT_TRUE(r[k].valid_cloud);
+    }
+    std::printf(
+        "%-7g  %6zu  %12.3f  %9.3f  %5.3f | %14.3f  %9.3f  %5.3f | %13.3f  %9.3f  %5.3f | %6.2f\n",
+        double(spacing), c[2].probe_count(), e[0][0], e[0][1], e[0][2], e[1][0], e[1][1], e[1][2],
+        e[2][0], e[2][1], e[2][2], r[2].total_seconds);
+    if (spacing == 2.0f) coarse = e[0][2];
+    if (spacing == 0.5f) fine = e[0][2];
   }
   EXPECT_LT(fine, coarse);  // more probes, less error
   EXPECT_LT(fine, 0.5);

@@ -26,7 +26,8 @@ using namespace penumbra;
 
 constexpr const char* kUsage =
     "usage: penumbra_bake SCENE.json -o FILE.pcld [--spacing M] [--samples N] [--bands N]\n"
-    "                     [--seed N] [--no-validity] [--no-bounce] [--threads N] [--data DIR]\n"
+    "                     [--seed N] [--no-validity] [--one-sided] [--no-bounce] [--threads N]\n"
+    "                     [--data DIR]\n"
     "  --data DIR: where the scene's files live (default: SCENE's folder/../../shared/data)\n";
 
 int usage(const std::string& why) {
@@ -104,6 +105,8 @@ int main(int argc, char** argv) {
       take();
     } else if (a == "--no-validity") {
       s.validity = false;
+    } else if (a == "--one-sided") {
+      s.validity_settings.both_sides = false;
     } else if (a == "--no-bounce") {
       s.bounce = false;
     } else if (!a.empty() && a[0] == '-') {
@@ -133,14 +136,15 @@ int main(int argc, char** argv) {
       return 1;
     }
     assets::save_probe_cloud_file(out_path, cloud);
-    const std::size_t placed = r.probes.size();
+    const std::size_t placed = r.placed;
     std::printf("scene            %s (%s)\n", scene.name.c_str(), scene_path.string().c_str());
     std::printf("placement        grid, spacing %g m\n",
                 static_cast<double>(s.spacing > 0 ? s.spacing : scene.volume.spacing));
     std::printf("probes           %zu placed, %zu in the cloud, %d bands\n", placed,
                 cloud.probe_count(), cloud.bands);
-    std::printf("validity         %zu valid, %zu offset, %zu dilated, %zu black%s\n", r.valid,
-                r.offset, r.dilated, r.black, s.validity ? "" : " (validity off)");
+    std::printf("validity         %zu valid, %zu offset, %zu dilated, %zu black, %zu split%s\n",
+                r.valid, r.offset, r.dilated, r.black, r.split,
+                s.validity ? "" : " (validity off)");
     std::printf("samples          %d per probe, seed %llu, bounce %s\n", s.samples,
                 static_cast<unsigned long long>(s.seed), s.bounce ? "on" : "off");
     std::printf("std error        %.2f%% mean, %.2f%% max (irradiance DC, relative)\n",

@@ -121,6 +121,7 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
   const std::size_t n = placed.size();
   const std::size_t stride = static_cast<std::size_t>(3 * s.bands * s.bands);
   BakeReport rep;
+  rep.placed = n;
   rep.probes.resize(n);
 
   reference::RadianceShOptions o;
@@ -152,10 +153,19 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
     for (std::size_t i = 0; i < n; ++i) {
       if (!(first.share[i] > v.invalid_share)) continue;
       state[i] = ProbeState::kBlack;  // invalid until offset or dilated
-      if (first.escape_distance[i] <= v.max_offset * spacing) {
+      const float reach = v.max_offset * spacing;
+      if (first.escape_distance[i] <= reach) {
+        const glm::vec3 d = first.escape_dir[i];
         moved.push_back(i);
-        moved_to.push_back(placed[i] + first.escape_dir[i] *
-                                           (first.escape_distance[i] + v.clearance * spacing));
+        moved_to.push_back(placed[i] + d * (first.escape_distance[i] + v.clearance * spacing));
+        if (v.both_sides) {
+          // The opposite side: the exit along -d (a thin wall's other face).
+          const reference::Hit h = traced.first_hit(placed[i], -d, reach);
+          if (h) {
+            moved.push_back(i);
+            moved_to.push_back(placed[i] - d * (h.distance + v.clearance * spacing));
+          }
+        }
       }
     }
     if (!moved.empty()) {
@@ -167,7 +177,16 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
       rep.rays += second.rays;
       for (std::size_t k = 0; k < moved.size(); ++k) {
         if (second.share[k] > v.invalid_share) continue;
-        const std::size_t i = moved[k];
+        std::size_t i = moved[k];
+        if (state[i] == ProbeState::kOffset) {  // its other side: a probe of its own
+          i = positions.size();
+          positions.push_back(moved_to[k]);
+          state.push_back(ProbeState::kOffset);
+          sh.resize(sh.size() + stride);
+          rep.probes.emplace_back();
+          rep.probes.back().placed = placed[moved[k]];
+          ++rep.split;
+        }
         state[i] = ProbeState::kOffset;
         positions[i] = moved_to[k];
         std::copy_n(second.sh.begin() + static_cast<std::ptrdiff_t>(k * stride), stride,
@@ -183,7 +202,7 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
   rep.validity_seconds = seconds_since(t1);
   double rel_sum = 0;
   std::size_t rel_count = 0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < positions.size(); ++i) {
     ProbeRecord& r = rep.probes[i];
     r.position = positions[i];
     r.state = state[i];
@@ -192,7 +211,7 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
         ++rep.valid;
         break;
       case ProbeState::kOffset:
-        ++rep.offset;
+        rep.offset += i < n;
         break;
       case ProbeState::kDilated:
         ++rep.dilated;

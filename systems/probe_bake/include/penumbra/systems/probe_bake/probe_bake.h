@@ -49,8 +49,12 @@ struct ProbeRecord {
 };
 
 struct BakeReport {
-  std::vector<ProbeRecord> probes;  // per placed probe
-  std::size_t valid = 0, offset = 0, dilated = 0, black = 0;
+  // Per probe of the cloud (before merging): the placed ones in order, then the second sides
+  // of split probes (ValiditySettings::both_sides).
+  std::vector<ProbeRecord> probes;
+  std::size_t placed = 0;                                     // probes placement made
+  std::size_t valid = 0, offset = 0, dilated = 0, black = 0;  // placed probes by state
+  std::size_t split = 0;  // probes added on the other side of a thin solid (both_sides)
   std::uint64_t rays = 0;
   double capture_seconds = 0, validity_seconds = 0, build_seconds = 0, total_seconds = 0;
   double mean_rel_std_error = 0;  // mean over lit captured probes of dc_std_error / dc
