@@ -27,7 +27,9 @@ using namespace penumbra;
 constexpr const char* kUsage =
     "usage: penumbra_bake SCENE.json -o FILE.pcld [--spacing M] [--samples N] [--bands N]\n"
     "                     [--seed N] [--no-validity] [--one-sided] [--no-bounce] [--threads N]\n"
-    "                     [--data DIR]\n"
+    "                     [--edge-rays] [--edge-rounds N] [--data DIR]\n"
+    "  --edge-rays: probes where Delaunay edges cross geometry ([Sukys14] sec. 3.2.2)\n"
+    "  --edge-rounds N: edge-ray rounds (default 3; implies --edge-rays)\n"
     "  --data DIR: where the scene's files live (default: SCENE's folder/../../shared/data)\n";
 
 int usage(const std::string& why) {
@@ -109,6 +111,14 @@ int main(int argc, char** argv) {
       s.validity_settings.both_sides = false;
     } else if (a == "--no-bounce") {
       s.bounce = false;
+    } else if (a == "--edge-rays") {
+      s.edge_rays.enabled = true;
+    } else if (a == "--edge-rounds") {
+      if (v == nullptr || !parse_number(v, s.edge_rays.max_iterations) ||
+          s.edge_rays.max_iterations < 1)
+        return usage("--edge-rounds needs an integer >= 1");
+      s.edge_rays.enabled = true;
+      take();
     } else if (!a.empty() && a[0] == '-') {
       return usage("unknown option " + std::string(a));
     } else {
@@ -145,6 +155,12 @@ int main(int argc, char** argv) {
     std::printf("validity         %zu valid, %zu offset, %zu dilated, %zu black, %zu split%s\n",
                 r.valid, r.offset, r.dilated, r.black, r.split,
                 s.validity ? "" : " (validity off)");
+    if (s.edge_rays.enabled)
+      std::printf(
+          "edge rays        %zu added, %zu dropped (invalid), %d rounds; %zu edges, %zu hits "
+          "(%zu grazing, %zu near a vertex, %zu blocked, %zu crowded)\n",
+          r.edge_added, r.edge_dropped, r.edge_rounds, r.edge.edges, r.edge.hits, r.edge.grazing,
+          r.edge.near_vertex, r.edge.blocked, r.edge.crowded);
     std::printf("samples          %d per probe, seed %llu, bounce %s\n", s.samples,
                 static_cast<unsigned long long>(s.seed), s.bounce ? "on" : "off");
     std::printf("std error        %.2f%% mean, %.2f%% max (irradiance DC, relative)\n",
@@ -156,8 +172,9 @@ int main(int argc, char** argv) {
         r.capture_seconds > 0 ? static_cast<double>(r.rays) / r.capture_seconds / 1e6 : 0.0);
     std::printf("tetrahedra       %u inner, %zu outer cells\n", cloud.inner_count,
                 cloud.cells.size() - cloud.inner_count);
-    std::printf("time             %.2f s (capture %.2f, validity %.2f, build %.3f)\n",
-                r.total_seconds, r.capture_seconds, r.validity_seconds, r.build_seconds);
+    std::printf(
+        "time             %.2f s (capture %.2f, validity %.2f, edge rays %.2f, build %.3f)\n",
+        r.total_seconds, r.capture_seconds, r.validity_seconds, r.edge_seconds, r.build_seconds);
     std::printf("wrote            %s\n", out_path.string().c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "\npenumbra_bake: %s\n", e.what());

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "penumbra/reference/radiance_sh.h"
@@ -139,12 +140,24 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
   std::vector<glm::vec3> positions = placed;
   std::vector<float> sh = first.sh;
   std::vector<ProbeState> state(n, ProbeState::kValid);
+  std::uint64_t next_stream = n;  // capture streams: one per captured point, never reused
   for (std::size_t i = 0; i < n; ++i) {
     rep.probes[i].placed = placed[i];
     rep.probes[i].back_face_share = first.share[i];
     rep.probes[i].dc_std_error = first.dc_err[i];
     rep.probes[i].dc = first.dc[i];
   }
+  // Moved and added probes stay in the placed probes' bounding box: a probe poking out of a
+  // flat hull face (a grid's) turns that face into long sliver triangles across the volume,
+  // whose outer cells extrapolate one side of a wall onto the other (in the room at 0.5 m a
+  // probe pushed out of the ball to z = 0.35 under the z = 0.5 layer lit the inner wall's dark
+  // side through the floor's hull: dark-side error 18x; docs/probe_bake.md "Edge rays").
+  glm::vec3 box_min = n ? placed[0] : glm::vec3(0.0f), box_max = box_min;
+  for (const glm::vec3& q : placed) {
+    box_min = glm::min(box_min, q);
+    box_max = glm::max(box_max, q);
+  }
+  auto in_box = [&](const glm::vec3& q) { return glm::clamp(q, box_min, box_max); };
   const auto t1 = Clock::now();
   if (s.validity) {
     const ValiditySettings& v = s.validity_settings;
@@ -156,14 +169,25 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
       const float reach = v.max_offset * spacing;
       if (first.escape_distance[i] <= reach) {
         const glm::vec3 d = first.escape_dir[i];
+        // The exit face's outward normal (the hit's normal faces the ray, i.e. inwards): the
+        // probe leaves perpendicular to that face, so a grid row through a wall lands as a row
+        // on each face, not scattered by the sampled escape direction (a probe just off a flat
+        // hull face or row turns it into slivers that leak across the wall).
+        auto exit_point = [&](const glm::vec3& dir, float fallback) {
+          const reference::Hit h = traced.first_hit(placed[i], dir, reach);
+          if (!h) return placed[i] + dir * (fallback + v.clearance * spacing);
+          const glm::vec3 out = -h.normal;
+          const float perp = h.distance * std::max(0.0f, glm::dot(dir, out));
+          return placed[i] + out * (perp + v.clearance * spacing);
+        };
         moved.push_back(i);
-        moved_to.push_back(placed[i] + d * (first.escape_distance[i] + v.clearance * spacing));
+        moved_to.push_back(in_box(exit_point(d, first.escape_distance[i])));
         if (v.both_sides) {
           // The opposite side: the exit along -d (a thin wall's other face).
           const reference::Hit h = traced.first_hit(placed[i], -d, reach);
           if (h) {
             moved.push_back(i);
-            moved_to.push_back(placed[i] - d * (h.distance + v.clearance * spacing));
+            moved_to.push_back(in_box(exit_point(-d, h.distance)));
           }
         }
       }
@@ -174,6 +198,7 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
       Capture second;
       // Streams n + k: independent of the first pass, fixed for the same inputs.
       capture_any(s.bands, traced, scene, moved_to, o, n, second, chunk, done, total, progress);
+      next_stream += moved.size();
       rep.rays += second.rays;
       for (std::size_t k = 0; k < moved.size(); ++k) {
         if (second.share[k] > v.invalid_share) continue;
@@ -200,6 +225,36 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
         dilate(positions, state, sh, stride, v.dilation_radius * spacing, v.dilation_passes);
   }
   rep.validity_seconds = seconds_since(t1);
+  const auto te = Clock::now();
+  for (int round = 1; s.edge_rays.enabled && round <= s.edge_rays.max_iterations; ++round) {
+    std::vector<glm::vec3> pts = edge_ray_points(scene, traced, positions, s.edge_rays, &rep.edge);
+    std::erase_if(pts, [&](const glm::vec3& q) { return in_box(q) != q; });
+    if (pts.empty()) break;
+    rep.edge_rounds = round;
+    total += pts.size();
+    Capture extra;
+    capture_any(s.bands, traced, scene, pts, o, next_stream, extra, chunk, done, total, progress);
+    next_stream += pts.size();
+    rep.rays += extra.rays;
+    for (std::size_t k = 0; k < pts.size(); ++k) {
+      if (s.validity && extra.share[k] > s.validity_settings.invalid_share) {
+        ++rep.edge_dropped;
+        continue;
+      }
+      ++rep.edge_added;
+      positions.push_back(pts[k]);
+      state.push_back(ProbeState::kValid);
+      sh.insert(sh.end(), extra.sh.begin() + static_cast<std::ptrdiff_t>(k * stride),
+                extra.sh.begin() + static_cast<std::ptrdiff_t>((k + 1) * stride));
+      ProbeRecord& r = rep.probes.emplace_back();
+      r.placed = pts[k];
+      r.back_face_share = extra.share[k];
+      r.dc_std_error = extra.dc_err[k];
+      r.dc = extra.dc[k];
+      r.edge_round = round;
+    }
+  }
+  rep.edge_seconds = seconds_since(te);
   double rel_sum = 0;
   std::size_t rel_count = 0;
   for (std::size_t i = 0; i < positions.size(); ++i) {
@@ -208,7 +263,7 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
     r.state = state[i];
     switch (state[i]) {
       case ProbeState::kValid:
-        ++rep.valid;
+        rep.valid += rep.probes[i].edge_round == 0;
         break;
       case ProbeState::kOffset:
         rep.offset += i < n;

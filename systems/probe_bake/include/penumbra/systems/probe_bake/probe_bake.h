@@ -21,6 +21,7 @@
 #include "penumbra/data/probe_cloud.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/systems/probe_bake/bake_scene.h"
+#include "penumbra/systems/probe_bake/probe_edge_rays.h"
 #include "penumbra/systems/probe_bake/probe_placement.h"
 #include "penumbra/systems/probe_bake/probe_validity.h"
 
@@ -36,6 +37,10 @@ struct BakeSettings {
   PlacementMethod placement = PlacementMethod::kGrid;
   bool validity = true;  // false: every probe keeps its own capture (the "before" of the docs)
   ValiditySettings validity_settings;
+  // Edge rays ([Sukys14] sec. 3.2.2, probe_edge_rays.h) after placement and validity: the new
+  // probes are captured like the others (streams after every earlier capture) and, with
+  // validity on, dropped if invalid there (back-face share above invalid_share).
+  EdgeRaySettings edge_rays;
   std::size_t chunk = 64;  // probes per progress step (no effect on the result)
 };
 
@@ -46,16 +51,23 @@ struct ProbeRecord {
   float dc_std_error = 0;  // largest standard error of the irradiance DC term over channels
   float dc = 0;            // the irradiance DC term, mean over channels
   ProbeState state = ProbeState::kValid;
+  int edge_round = 0;  // 0: placed (or split); k >= 1: added by edge-ray round k
 };
 
 struct BakeReport {
   // Per probe of the cloud (before merging): the placed ones in order, then the second sides
-  // of split probes (ValiditySettings::both_sides).
+  // of split probes (ValiditySettings::both_sides), then the edge-ray probes by round.
   std::vector<ProbeRecord> probes;
   std::size_t placed = 0;                                     // probes placement made
   std::size_t valid = 0, offset = 0, dilated = 0, black = 0;  // placed probes by state
   std::size_t split = 0;  // probes added on the other side of a thin solid (both_sides)
+  // Edge rays: rounds run (stopped early when one adds nothing), probes added (kept), probes
+  // dropped as invalid where they landed, and the rays' statistics summed over the rounds.
+  int edge_rounds = 0;
+  std::size_t edge_added = 0, edge_dropped = 0;
+  EdgeRayStats edge;
   std::uint64_t rays = 0;
+  double edge_seconds = 0;
   double capture_seconds = 0, validity_seconds = 0, build_seconds = 0, total_seconds = 0;
   double mean_rel_std_error = 0;  // mean over lit captured probes of dc_std_error / dc
   double max_rel_std_error = 0;
