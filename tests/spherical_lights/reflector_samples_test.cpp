@@ -90,6 +90,31 @@ TEST(SampleReflector, ACentreOutsideTheObjectUsesTheOppositeRaysFrontSide) {
   EXPECT_GT(top, 5);
 }
 
+TEST(SampleReflector, ARayThroughASharedEdgeFindsItsPoint) {
+  // A quad facing away from the centre across every geodesic direction's path, each split along
+  // a diagonal through the point the ray meets: float rounding must not let the ray slip
+  // between the two triangles (it did on meshes whose edges line up with geodesic directions).
+  const std::vector<glm::vec3> dirs = geodesic_directions(3);
+  int hit = 0;
+  for (const glm::vec3& d : dirs) {
+    const glm::vec3 t = std::abs(d.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+    const glm::vec3 u = glm::normalize(glm::cross(d, t)), v = glm::cross(d, u);
+    data::MeshData quad;
+    quad.name = "quad";
+    const glm::vec3 c = 2.0f * d;
+    quad.positions = {c - u - v, c + u - v, c + u + v, c - u + v};
+    quad.indices = {0, 1, 2, 0, 2, 3};  // the diagonal 0-2 passes through c; normal +d
+    const ReflectorSamples s =
+        sample_reflector(quad, std::vector<data::Sphere>{{glm::vec3(0), 3.0f, -1}});
+    const auto j = static_cast<std::size_t>(&d - dirs.data());
+    hit += s.lights[0].valid[j];
+    if (s.lights[0].valid[j]) {
+      EXPECT_NEAR(glm::length(s.lights[0].positions[j] - c), 0.0f, 1e-5f);
+    }
+  }
+  EXPECT_EQ(hit, 92);
+}
+
 TEST(SampleReflector, BadInputNamesTheMeshAndTheReason) {
   data::MeshData box = test::box_mesh(glm::vec3(-1), glm::vec3(1));
   const std::vector<data::Sphere> ok = {{glm::vec3(0), 2.0f, -1}};

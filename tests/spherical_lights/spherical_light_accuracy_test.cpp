@@ -835,10 +835,12 @@ TEST(SphericalLightErrorSources, BandingAtA180DegreeBend) {
         bent ? 180 : 0, 100 * e.rms, 100 * e.bias, 100 * (hi - lo), 100 * lo, 100 * hi,
         100 * e.ref_se);
   }
-  // Measured: straight, the error along the line spans +9.3% .. +21.3% (spread 12.1%, bias
-  // +17%); bent 180 degrees, +0.7% .. +19.2% (spread 18.5%, bias +7.8%); reference noise 0.2%.
-  EXPECT_GT(spread[1], spread[0] + 0.04);
-  EXPECT_LT(spread[1], 0.22);
+  // Measured: straight, the error along the line spans +28.9% .. +43.6% (spread 14.7%, bias
+  // +39%); bent 180 degrees, +10.3% .. +45.6% (spread 35.3%, bias +25%); reference noise 0.2%.
+  // (Before sample_reflector's rays hit both triangles of a shared edge, the cylinder's rays
+  // along its mesh edges found no point and those directions emitted nothing: +17% / +7.8%.)
+  EXPECT_GT(spread[1], spread[0] + 0.1);
+  EXPECT_LT(spread[1], 0.42);
 }
 
 }  // namespace

@@ -42,10 +42,11 @@ bool intersect(const Triangle& tri, const glm::vec3& o, const glm::vec3& d, floa
   const float inv = 1.0f / det;
   const glm::vec3 s = o - tri.a;
   u = glm::dot(s, p) * inv;
-  if (u < 0 || u > 1) return false;
+  constexpr float kEdge = 1e-6f;  // a ray along a shared edge hits both triangles: no gaps
+  if (u < -kEdge || u > 1 + kEdge) return false;
   const glm::vec3 q = glm::cross(s, tri.e1);
   v = glm::dot(d, q) * inv;
-  if (v < 0 || u + v > 1) return false;
+  if (v < -kEdge || u + v > 1 + kEdge) return false;
   t = glm::dot(tri.e2, q) * inv;
   return t > 0;
 }
