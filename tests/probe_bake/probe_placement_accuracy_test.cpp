@@ -137,3 +137,42 @@ TEST_F(RoomAccuracy, EdgeRaysLeak) {
 
 }  // namespace
 }  // namespace penumbra::probe_bake
+namespace penumbra::probe_bake {
+namespace {
+// Error versus probe count per placement method (docs/probe_bake.md): uniform grids at five
+// spacings, spawn and merge, gradient ascent; validity on, edge rays off, 512 samples.
+TEST_F(RoomAccuracy, ErrorVersusProbeCount) {
+  std::printf("method       start_m  param  probes | rel_rms  dark   lit | placement_s bake_s\n");
+  auto run = [&](const char* name, BakeSettings b, double param) {
+    b.samples = 512;
+    BakeReport r;
+    const data::ProbeCloud c = bake_probe_cloud(*scene_, *traced_, b, &r);
+    EXPECT_TRUE(r.valid_cloud);
+    std::printf("%-12s %7g %6g %7zu | %7.3f %6.3f %5.3f | %11.2f %6.2f\n", name, double(b.spacing),
+                param, c.probe_count(), error(c, 0), error(c, 1), error(c, 2), r.placement_seconds,
+                r.total_seconds);
+    std::fflush(stdout);
+    return std::pair<std::size_t, double>(c.probe_count(), error(c, 0));
+  };
+  for (float spacing : {2.0f, 1.5f, 1.0f, 0.75f, 0.5f}) {
+    BakeSettings b;
+    b.spacing = spacing;
+    run("grid", b, 0);
+  }
+  for (float start : {2.0f, 1.0f})
+    for (float spawn : {0.3f, 0.5f, 0.7f}) {
+      BakeSettings b;
+      b.spacing = start;
+      b.placement = PlacementMethod::kSpawnMerge;
+      b.spawn_merge.spawn_contrast = spawn;
+      run("spawn-merge", b, spawn);
+    }
+  for (float start : {1.0f, 0.75f, 0.5f}) {
+    BakeSettings b;
+    b.spacing = start;
+    b.placement = PlacementMethod::kGradient;
+    run("gradient", b, 0);
+  }
+}
+}  // namespace
+}  // namespace penumbra::probe_bake

@@ -27,7 +27,9 @@ using namespace penumbra;
 constexpr const char* kUsage =
     "usage: penumbra_bake SCENE.json -o FILE.pcld [--spacing M] [--samples N] [--bands N]\n"
     "                     [--seed N] [--no-validity] [--one-sided] [--no-bounce] [--threads N]\n"
+    "                     [--method grid|spawn-merge|gradient] [--max-probes N]\n"
     "                     [--edge-rays] [--edge-rounds N] [--data DIR]\n"
+    "  --method: placement ([Sukys14] sec. 3.1; default grid); --max-probes: spawn-merge's cap\n"
     "  --edge-rays: probes where Delaunay edges cross geometry ([Sukys14] sec. 3.2.2)\n"
     "  --edge-rounds N: edge-ray rounds (default 3; implies --edge-rays)\n"
     "  --data DIR: where the scene's files live (default: SCENE's folder/../../shared/data)\n";
@@ -111,6 +113,23 @@ int main(int argc, char** argv) {
       s.validity_settings.both_sides = false;
     } else if (a == "--no-bounce") {
       s.bounce = false;
+    } else if (a == "--method") {
+      const std::string_view m = v ? v : "";
+      if (m == "grid") {
+        s.placement = probe_bake::PlacementMethod::kGrid;
+      } else if (m == "spawn-merge") {
+        s.placement = probe_bake::PlacementMethod::kSpawnMerge;
+      } else if (m == "gradient") {
+        s.placement = probe_bake::PlacementMethod::kGradient;
+      } else {
+        return usage("--method needs grid, spawn-merge or gradient");
+      }
+      take();
+    } else if (a == "--max-probes") {
+      if (v == nullptr || !parse_number(v, s.spawn_merge.max_probes) ||
+          s.spawn_merge.max_probes < 1)
+        return usage("--max-probes needs an integer >= 1");
+      take();
     } else if (a == "--edge-rays") {
       s.edge_rays.enabled = true;
     } else if (a == "--edge-rounds") {
@@ -148,8 +167,20 @@ int main(int argc, char** argv) {
     assets::save_probe_cloud_file(out_path, cloud);
     const std::size_t placed = r.placed;
     std::printf("scene            %s (%s)\n", scene.name.c_str(), scene_path.string().c_str());
-    std::printf("placement        grid, spacing %g m\n",
+    const char* method = s.placement == probe_bake::PlacementMethod::kGrid         ? "grid"
+                         : s.placement == probe_bake::PlacementMethod::kSpawnMerge ? "spawn-merge"
+                                                                                   : "gradient";
+    std::printf("placement        %s, spacing %g m\n", method,
                 static_cast<double>(s.spacing > 0 ? s.spacing : scene.volume.spacing));
+    if (s.placement != probe_bake::PlacementMethod::kGrid) {
+      const auto& a = r.adaptive;
+      const char* stop[] = {"no change", "iteration cap", "probe cap", "small steps"};
+      std::printf(
+          "adaptive         %zu initial -> %zu; %d iterations (stop: %s); %zu spawned, %zu "
+          "merged, %zu moves, %zu reverted, %zu black -> %zu clusters; %zu captures, %.2f s\n",
+          a.initial, placed, a.iterations, stop[static_cast<int>(a.stop)], a.spawned, a.merged,
+          a.moves, a.reverted, a.black, a.clusters, a.captured, r.placement_seconds);
+    }
     std::printf("probes           %zu placed, %zu in the cloud, %d bands\n", placed,
                 cloud.probe_count(), cloud.bands);
     std::printf("validity         %zu valid, %zu offset, %zu dilated, %zu black, %zu split%s\n",

@@ -1,5 +1,6 @@
 // The probe bake (issue 14): placement -> irradiance capture -> validity -> probe cloud.
-//  1. placement (probe_placement.h; only the uniform grid so far) over the scene's probe volume;
+//  1. placement (probe_placement.h: the uniform grid, spawn and merge, gradient ascent) over the
+//     scene's probe volume;
 //  2. capture: reference::radiance_sh at every probe (direct + one diffuse bounce, radiance_sh.h)
 //     with back faces classified by BakeScene::inside just before each hit; the radiance SH is
 //     convolved to irradiance SH (sh::irradiance_convolve), the cloud's convention
@@ -21,6 +22,7 @@
 #include "penumbra/data/probe_cloud.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/systems/probe_bake/bake_scene.h"
+#include "penumbra/systems/probe_bake/probe_adaptive.h"
 #include "penumbra/systems/probe_bake/probe_edge_rays.h"
 #include "penumbra/systems/probe_bake/probe_placement.h"
 #include "penumbra/systems/probe_bake/probe_validity.h"
@@ -41,7 +43,9 @@ struct BakeSettings {
   // probes are captured like the others (streams after every earlier capture) and, with
   // validity on, dropped if invalid there (back-face share above invalid_share).
   EdgeRaySettings edge_rays;
-  std::size_t chunk = 64;  // probes per progress step (no effect on the result)
+  SpawnMergeSettings spawn_merge;  // PlacementMethod::kSpawnMerge (probe_adaptive.h)
+  GradientSettings gradient;       // PlacementMethod::kGradient
+  std::size_t chunk = 64;          // probes per progress step (no effect on the result)
 };
 
 struct ProbeRecord {
@@ -68,6 +72,9 @@ struct BakeReport {
   EdgeRayStats edge;
   std::uint64_t rays = 0;
   double edge_seconds = 0;
+  AdaptiveReport adaptive;           // spawn and merge / gradient ascent (probe_adaptive.h)
+  double placement_seconds = 0;      // adaptive placement, its captures included
+  std::uint64_t placement_rays = 0;  // rays of those captures (not in `rays`)
   double capture_seconds = 0, validity_seconds = 0, build_seconds = 0, total_seconds = 0;
   double mean_rel_std_error = 0;  // mean over lit captured probes of dc_std_error / dc
   double max_rel_std_error = 0;

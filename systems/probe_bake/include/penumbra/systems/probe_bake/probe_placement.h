@@ -1,6 +1,6 @@
-// Probe placement (issue 14). Only the uniform grid exists so far: [Sukys14] sec. 3.1 starts
-// both of its methods (spawn and merge, gradient ascent) from it, and it is the baseline they are
-// measured against. A new method adds an enumerator and a file pair of its own.
+// Probe placement (issue 14): the uniform grid; [Sukys14] sec. 3.1 starts both of its adaptive
+// methods (spawn and merge, gradient ascent: probe_adaptive.h) from it, and it is the baseline
+// they are measured against.
 #pragma once
 
 #include <vector>
@@ -11,7 +11,11 @@
 
 namespace penumbra::probe_bake {
 
-enum class PlacementMethod { kGrid };
+enum class PlacementMethod {
+  kGrid,        // grid_points
+  kSpawnMerge,  // [Sukys14] sec. 3.1.1 (spawn_merge_points)
+  kGradient,    // [Sukys14] sec. 3.1.2 (gradient_points)
+};
 
 // Grid points over [min, max] every `spacing` metres per axis: n_k = floor(extent_k / spacing)
 // + 1 points, the grid centred in the box (so a box whose extent is a multiple of the spacing
