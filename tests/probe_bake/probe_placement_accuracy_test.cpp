@@ -104,7 +104,7 @@ PointSet RoomAccuracy::sets_[3];
 TEST_F(RoomAccuracy, EdgeRaysLeak) {
   std::printf(
       "spacing validity edge_rays probes added dropped rounds | rel_rms  dark   lit | bake_s\n");
-  for (float spacing : {2.0f, 1.0f, 0.5f}) {
+  for (float spacing : {2.0f, 1.5f, 1.0f, 0.5f}) {
     double leak[2][2] = {};
     for (int validity = 0; validity < 2; ++validity)
       for (int edge = 0; edge < 2; ++edge) {
@@ -126,10 +126,11 @@ TEST_F(RoomAccuracy, EdgeRaysLeak) {
     // Validity keeps the dark side dark (moves perpendicular to the exit face, inside the
     // grid's box; it was 18-86x before): within 0.5 at 1 and 0.5 m. Edge rays lower the leak
     // at 2 m (4.2 -> 1.9) and change it by under 10% where it is already at the noise.
-    if (spacing < 2) {
+    // At 1.5 m no grid column lies in the wall: tetrahedra cross it, the case edge rays are for.
+    if (spacing <= 1) {
       EXPECT_LT(leak[1][0], 0.5) << "spacing " << spacing;
     } else {
-      EXPECT_LT(leak[1][1], 0.7 * leak[1][0]);
+      EXPECT_LT(leak[1][1], 0.7 * leak[1][0]) << "spacing " << spacing;
     }
     EXPECT_LT(leak[1][1], 1.1 * leak[1][0]) << "spacing " << spacing;
   }
@@ -154,24 +155,36 @@ TEST_F(RoomAccuracy, ErrorVersusProbeCount) {
     std::fflush(stdout);
     return std::pair<std::size_t, double>(c.probe_count(), error(c, 0));
   };
+  std::vector<std::pair<std::size_t, double>> grid;
   for (float spacing : {2.0f, 1.5f, 1.0f, 0.75f, 0.5f}) {
     BakeSettings b;
     b.spacing = spacing;
-    run("grid", b, 0);
+    grid.push_back(run("grid", b, 0));
   }
+  for (std::size_t i = 1; i < grid.size(); ++i) EXPECT_LT(grid[i].second, grid[i - 1].second);
+  // Spawn and merge from the 2 m and 1 m grids at three spawn thresholds (merge 0.08).
+  std::vector<std::pair<std::size_t, double>> adaptive;
   for (float start : {2.0f, 1.0f})
-    for (float spawn : {0.3f, 0.5f, 0.7f}) {
+    for (float spawn : {0.9f, 0.7f, 0.5f}) {
       BakeSettings b;
       b.spacing = start;
       b.placement = PlacementMethod::kSpawnMerge;
       b.spawn_merge.spawn_contrast = spawn;
-      run("spawn-merge", b, spawn);
+      adaptive.push_back(run("spawn-merge", b, spawn));
     }
-  for (float start : {1.0f, 0.75f, 0.5f}) {
+  for (float start : {1.5f, 1.0f, 0.75f}) {
     BakeSettings b;
     b.spacing = start;
     b.placement = PlacementMethod::kGradient;
-    run("gradient", b, 0);
+    adaptive.push_back(run("gradient", b, 0));
+  }
+  // The hypothesis: an adaptive cloud reaches a grid's error with at most half its probes.
+  // Printed, not asserted (measured false in this room, docs/probe_bake.md).
+  for (const auto& [gn, ge] : grid) {
+    bool met = false;
+    for (const auto& [an, ae] : adaptive) met = met || (ae <= ge && 2 * an <= gn);
+    std::printf("grid %zu probes, error %.3f: adaptive with <= %zu probes and <= that error: %s\n",
+                gn, ge, gn / 2, met ? "yes" : "no");
   }
 }
 }  // namespace
