@@ -2,14 +2,16 @@
 // whose rays hit back faces (it sits inside geometry) captures darkness, and objects near it turn
 // black (godotengine/godot #77168). So
 //  1. a probe whose back-face share is above `invalid_share` (Unity: 0.25) is invalid;
-//  2. virtual offset: it is moved along its escape direction (the nearest back-face hit) to
-//     just past that surface (distance + clearance), when that is within max_offset, and captured
-//     again there; valid there -> kept at the new position;
+//  2. virtual offset: it leaves through the face its escape direction (the nearest back-face
+//     hit) reaches, when that hit is within max_offset: along the face's outward normal to
+//     clearance past the face's plane, clamped into the placed probes' bounding box (a probe off
+//     a grid row or outside the grid's flat hull face makes sliver hull triangles that
+//     extrapolate light across walls), and is captured again there; valid there -> kept;
 //     both_sides: also the exit along the opposite direction (the other face of a thin wall),
 //     when within max_offset; when both places are valid the probe becomes two, one on each
-//     side (a one-sided offset puts a lit probe next to the dark side; in the room scene splitting
-//     lowers the dark-side leak by about 30%, docs/probe_bake.md "Accuracy"; Delaunay
-//     tetrahedra still cross the wall: edge rays, [Sukys14] sec. 3.2.2, are not done yet);
+//     side (a one-sided offset puts a lit probe next to the dark side). Where tetrahedra still
+//     cross a wall (no probe inside it, e.g. a 1.5 m grid in the room), edge rays
+//     (probe_edge_rays.h, [Sukys14] sec. 3.2.2) add probes; docs/probe_bake.md "Edge rays";
 //  3. dilation: a probe still invalid takes the inverse-squared-distance weighted mean of the
 //     valid probes within dilation_radius; passes repeat with the filled probes as sources (each
 //     pass reaches one radius further), up to dilation_passes;
