@@ -13,6 +13,7 @@
 #include <glm/ext/vector_double3.hpp>
 
 #include "common.h"
+#include "direct_light.h"
 #include "penumbra/reference/sampling.h"
 
 namespace penumbra::reference {
@@ -23,71 +24,6 @@ constexpr std::uint64_t kRadianceShSalt = 5;  // after common.h's four
 
 bool black(const glm::vec3& v) {
   return v.x <= 0 && v.y <= 0 && v.z <= 0;
-}
-
-// Unbiased estimate of the direct irradiance (environment + lights) at x, unit normal n: the
-// same estimator as bounce.cpp's (private there), bounce_samples directions per source.
-glm::dvec3 direct_at(const Scene& scene, const glm::vec3& x, const glm::vec3& n,
-                     const RadianceShOptions& o, Pcg32& rng, std::uint32_t& rays) {
-  const detail::Shading s = detail::shading(scene, Receiver{x, n}, o.ray_offset);
-  glm::dvec3 total(0.0);
-  const EnvironmentSampler* env = scene.environment();
-  if (env != nullptr && env->can_sample()) {
-    const StrataGrid grid = StrataGrid::for_count(std::max(1, o.bounce_samples / 2), true);
-    const Frame frame(s.n);
-    glm::dvec3 sum(0.0);
-    for (int h = 0; h < grid.count(); ++h) {
-      const glm::vec3 local = cosine_hemisphere(to_float(grid.point(h, rng)));
-      if (local.z > 0) {
-        const glm::vec3 dir = frame.to_world(local);
-        const EnvironmentSampler::Lookup l = env->lookup(dir);
-        const double w = detail::mis_weight(o.heuristic, local.z * std::numbers::inv_pi, l.pdf);
-        if (luminance(l.radiance) > 0) {
-          ++rays;
-          if (!scene.occluded(s.origin, dir, kInf))
-            sum += glm::dvec3(l.radiance) * (w * std::numbers::pi);
-        }
-      }
-      const EnvironmentSampler::Sample e = env->sample(grid.point(h, rng));
-      const double cos = glm::dot(s.n, e.dir);
-      if (cos > 0) {
-        const double w = detail::mis_weight(o.heuristic, e.pdf, cos * std::numbers::inv_pi);
-        ++rays;
-        if (!scene.occluded(s.origin, e.dir, kInf))
-          sum += glm::dvec3(e.radiance) * (w * cos / e.pdf);
-      }
-    }
-    total += sum / double(grid.count());
-  }
-  const StrataGrid grid = StrataGrid::for_count(o.bounce_samples, true);
-  const glm::dvec3 p(x), origin(s.origin);
-  for (const SphereLight& light : scene.lights()) {
-    if (black(light.radiance)) continue;
-    const glm::dvec3 d = glm::dvec3(light.center) - p;
-    const double dist2 = glm::dot(d, d), r2 = double(light.radius) * light.radius;
-    if (dist2 <= r2) continue;
-    const double dist = std::sqrt(dist2), sin2 = r2 / dist2, cos_max = std::sqrt(1 - sin2);
-    const glm::dvec3 axis = d / dist;
-    if (glm::dot(axis, glm::dvec3(s.n)) <= -std::sqrt(sin2)) continue;
-    const double one_minus_cos = sin2 / (1 + cos_max);
-    const Frame frame{glm::vec3(axis)};
-    const glm::dvec3 center(light.center);
-    double sum = 0;
-    for (int h = 0; h < grid.count(); ++h) {
-      const glm::vec3 dir =
-          frame.to_world(uniform_cone(to_float(grid.point(h, rng)), one_minus_cos));
-      const double cos = glm::dot(s.n, dir);
-      if (cos <= 0) continue;
-      const glm::dvec3 c = center - origin, w(dir);
-      const glm::dvec3 perp = glm::cross(c, w);
-      const double t = glm::dot(c, w) - std::sqrt(std::fmax(0.0, r2 - glm::dot(perp, perp)));
-      ++rays;
-      if (scene.occluded(s.origin, dir, static_cast<float>(t))) continue;
-      sum += cos * 2 * std::numbers::pi * one_minus_cos;
-    }
-    total += glm::dvec3(light.radiance) * (sum / grid.count());
-  }
-  return total;
 }
 
 template <int N>
@@ -132,7 +68,9 @@ RadianceShEstimate<N> estimate(const Scene& scene, const glm::vec3& p, std::size
             out.escape_dir = dir;
           }
         } else if (bounce && !black(hit.albedo)) {
-          const glm::dvec3 e = direct_at(scene, p + hit.distance * dir, hit.normal, o, rng, rays);
+          const glm::dvec3 e =
+              detail::direct_irradiance(scene, p + hit.distance * dir, hit.normal,
+                                        {o.bounce_samples, o.heuristic, o.ray_offset}, rng, rays);
           project<N>(gk, glm::dvec3(hit.albedo) * e * std::numbers::inv_pi, dir, 1 / kSpherePdf);
         }
       } else if (env != nullptr) {
