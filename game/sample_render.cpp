@@ -6,13 +6,13 @@
 
 #include <glm/geometric.hpp>
 
-#include "penumbra/data/height_field.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/motion.h"
 #include "penumbra/components/terrain.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/game/sample_world.h"
 #include "penumbra/render/packet.h"
 #include "penumbra/systems/render_extract/render_extract.h"

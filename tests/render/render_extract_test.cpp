@@ -4,13 +4,13 @@
 
 #include <algorithm>
 
-#include "penumbra/data/height_field.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/mesh.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/jobs/executor.h"
 #include "render_test_util.h"
 
@@ -32,7 +32,8 @@ TEST(RenderExtract, BuildsThePacketFromComponentsSharingArrays) {
   w.create_with(Transform{}, MeshInstance{});      // no mesh: skipped
   auto heights = render::test::make_hills(8, 1.0f);
   auto texels = std::make_shared<std::vector<glm::vec3>>(64, glm::vec3(1));
-  w.create_with(Terrain{heights, {1, 1, 0}, glm::vec3(0.7f)}, TerrainLighting{texels, 8, 8, nullptr});
+  w.create_with(Terrain{heights, {1, 1, 0}, glm::vec3(0.7f)},
+                TerrainLighting{texels, 8, 8, nullptr});
   w.create_with(DebugSphere{{0, 0, 5}, 2.0f, {1, 0, 0}});
   w.create_with(DebugLines{{{{0, 0, 0}, {1, 0, 0}, {1, 1, 1}}, {{0, 0, 0}, {0, 1, 0}, {1, 1, 1}}}});
   w.create_with(DebugLines{{{{0, 0, 0}, {0, 0, 1}, {1, 1, 1}}}},

@@ -69,7 +69,8 @@ struct Birth {
 void add_churn(jobs::Schedule& s, std::shared_ptr<data::MeshData> shared) {
   s.add_chunks<const Birth>("die",
                             [](jobs::SystemContext& ctx, const ecs::ChunkView<const Birth>& c) {
-                              const std::uint64_t now = ctx.world().resource<const FrameTime>().frame;
+                              const std::uint64_t now =
+                                  ctx.world().resource<const FrameTime>().frame;
                               const auto births = c.get<const Birth>();
                               const auto ents = c.entities();
                               for (std::size_t i = 0; i < c.size(); ++i)
@@ -118,9 +119,8 @@ TEST(Soak, TwoThousandFramesWithEntityChurnKeepObjectsAndMemoryFlat) {
   ecs::World world;
   emplace_render_resources(world);
   world.emplace_resource<Camera>() = {{0, -12, 6}, {0, 0, 0}, {0, 0, 1}, 0.9f, 0.1f, 100.0f};
-  world.create_with(
-      Terrain{render::test::make_hills(16, 1.0f), {-8, -8, -1}, glm::vec3(0.6f)},
-      TerrainLighting{});
+  world.create_with(Terrain{render::test::make_hills(16, 1.0f), {-8, -8, -1}, glm::vec3(0.6f)},
+                    TerrainLighting{});
   world.emplace_resource<FrameTime>();
   jobs::Schedule schedule;
   add_churn(schedule, render::test::make_uv_sphere(4, 8, 0.5f));

@@ -21,8 +21,9 @@
 //       SphericalLightSettingsResource; writes TerrainLighting, SphericalLightTerrainState
 //       (adds it to a terrain, structural)
 //       The bounce on the terrain's texels near the lights (terrain_indirect.h; its own gather
-//       with terrain_horizon), rows spread over `terrain_period` frames, added as indirect / pi to what the systems before it
-//       published (register after add_blocker_systems: the blockers' shadowed terrain).
+//       with terrain_horizon), rows spread over `terrain_period` frames, added as indirect / pi to
+//       what the systems before it published (register after add_blocker_systems: the blockers'
+//       shadowed terrain).
 // render_extract adds indirect / pi to the VertexLighting it draws (radiance per unit albedo).
 #pragma once
 
