@@ -374,6 +374,43 @@ def probe_brief(summary, rec):
     return "\n".join(lines)
 
 
+# The terrain group's headline rows for the README (<!-- bench-table:terrain-brief:begin/end -->):
+# name prefix in the summary -> label.
+TERRAIN_BRIEF = [
+    ("env update 256^2 sweep", "environment update (sweep horizons + transfer), 256^2, n_phi 32"),
+    ("horizons alone, sweep", "horizons alone, sweep"),
+    ("transfer alone", "transfer alone"),
+    ("1 spherical light (default", "one spherical light (cap horizon, default)"),
+    ("local edit 16x16", "brush edit, 16x16 texels"),
+    ("shading only", "rotating environment (re-shade from stored transfer)"),
+    ("env update 1024^2", "1024x1024, n_phi 64"),
+]
+
+
+def terrain_brief(summary):
+    load = summary.get("load_avg") or [None]
+    lines = [
+        f"Measured {summary['date']} on {summary['num_cpus']} CPUs, load average {load[0]:.2f} at the "
+        "start (`./penumbra bench terrain`, build/bench/terrain_summary.json).",
+        "",
+        "| case | ms | floor (ms / floor) | same-run ratio | goal | note |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for prefix, label in TERRAIN_BRIEF:
+        row = next((r for r in summary["rows"] if r["name"].strip().startswith(prefix)), None)
+        if row is None:
+            continue
+        goal = row.get("goal")
+        goal_text = f"{goal['op']} {fmt(goal['target'])}: {row['status']}" if goal else "-"
+        floor = row.get("floor")
+        floor_text = "-" if floor is None else f"{fmt(floor)} ({fmt(row.get('floor_ratio'))}x)"
+        ratio = row.get("ratio")
+        ratio_text = "-" if ratio is None else f"{ratio:.3g} ({row.get('ratio_def') or 'baseline/value'})"
+        lines.append(f"| {label} | {fmt(row.get('value'))} | {floor_text} | {ratio_text} | "
+                     f"{goal_text} | {row.get('note', '')} |")
+    return "\n".join(lines)
+
+
 def main(argv):
     if not argv:
         sys.exit("usage: bench_table.py GROUP [--write FILE...]")
@@ -387,6 +424,12 @@ def main(argv):
     begin, end = f"<!-- bench-table:{group}:begin -->", f"<!-- bench-table:{group}:end -->"
     for target in targets:
         brief = f"<!-- bench-table:{group}-brief:begin -->"
+        if group == "terrain":
+            with open(target) as f:
+                if "<!-- bench-table:terrain-brief:begin -->" in f.read():
+                    write_between(target, "<!-- bench-table:terrain-brief:begin -->",
+                                  "<!-- bench-table:terrain-brief:end -->", terrain_brief(record))
+                    continue
         if group in ("blockers", "probes", "spherical_lights"):
             with open(target) as f:
                 if brief in f.read():
