@@ -25,6 +25,7 @@
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/sh/rotation.h"
+#include "penumbra/systems/blocker_accumulation/receiver_round_robin.h"
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
 #include "penumbra/systems/terrain_shadow/cast_shadow.h"
 #include "penumbra/systems/terrain_shadow/terrain_horizons.h"
@@ -224,21 +225,10 @@ void shade(ecs::World& w) {
       [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
         all.push_back({e, &r, &t, &out});
       });
-  const std::size_t budget = w.resource<const BlockerSettingsResource>().receiver_budget;
-  std::vector<Item> now;
-  std::size_t points = 0;
-  for (const Item& it : all)
-    if (!it.out->irradiance) {
-      now.push_back(it);
-      points += it.r->points ? it.r->points->size() : 0;
-    }
-  for (std::size_t k = 0; k < all.size() && (budget == 0 || points < budget || now.empty()); ++k) {
-    const Item& it = all[(field.cursor + k) % all.size()];
-    if (!it.out->irradiance) continue;
-    now.push_back(it);
-    points += it.r->points ? it.r->points->size() : 0;
-    ++field.cursor;
-  }
+  const std::vector<Item> now = pick_receivers(
+      all, w.resource<const BlockerSettingsResource>().receiver_budget, field.cursor,
+      [](const Item& it) { return !it.out->irradiance; },
+      [](const Item& it) { return it.r->points ? it.r->points->size() : std::size_t{0}; });
   for (const Item& it : now) {
     [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
       std::optional<sh::Coeffs<N>> cast;

@@ -25,6 +25,7 @@
 #include "penumbra/data/height_field.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
+#include "penumbra/systems/blocker_accumulation/receiver_round_robin.h"
 #include "penumbra/systems/spherical_lights/terrain_indirect.h"
 #include "penumbra/systems/terrain_shadow/cast_shadow.h"
 #include "penumbra/systems/terrain_shadow/terrain_horizons.h"
@@ -182,19 +183,9 @@ void gather(ecs::World& w) {
         all.push_back({e, &r, &t, &out});
       });
   // Every entity without an indirect term now, then round robin within the point budget.
-  std::vector<Item> now;
-  std::size_t points = 0;
-  for (const Item& it : all) {
-    if (!it.out->indirect) now.push_back(it), points += it.r->points ? it.r->points->size() : 0;
-  }
-  const std::size_t budget = settings.receiver_budget;
-  for (std::size_t k = 0; k < all.size() && (budget == 0 || points < budget || now.empty()); ++k) {
-    const Item& it = all[(field.cursor + k) % all.size()];
-    if (!it.out->indirect) continue;
-    now.push_back(it);
-    points += it.r->points ? it.r->points->size() : 0;
-    ++field.cursor;
-  }
+  const std::vector<Item> now = blocker_accumulation::pick_receivers(
+      all, settings.receiver_budget, field.cursor, [](const Item& it) { return !it.out->indirect; },
+      [](const Item& it) { return it.r->points ? it.r->points->size() : std::size_t{0}; });
   for (const Item& it : now) {
     const Receiver& r = *it.r;
     if (!r.points || !r.normals || r.points->size() != r.normals->size() || !finite(it.t->world)) {
