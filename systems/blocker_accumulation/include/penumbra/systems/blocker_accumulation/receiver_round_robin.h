@@ -19,8 +19,9 @@ std::vector<Item> pick_receivers(const std::vector<Item>& all, std::size_t budge
   for (const Item& it : all) {
     if (is_new(it)) now.push_back(it), used += points(it);
   }
+  const std::uint64_t start = cursor;  // the walk's start: cursor itself advances per pick
   for (std::size_t k = 0; k < all.size() && (budget == 0 || used < budget || now.empty()); ++k) {
-    const Item& it = all[(cursor + k) % all.size()];
+    const Item& it = all[(start + k) % all.size()];
     if (is_new(it)) continue;
     now.push_back(it);
     used += points(it);
