@@ -46,6 +46,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "../spherical_lights/test_meshes.h"
 #include "bench_registry.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
@@ -75,26 +76,6 @@ constexpr double kGoalSquirrelMs = 3;  // issue 13: 21,000 receivers x 14 SLs, 2
 constexpr float kDefaultMinSin = sl::SphereLightSettings{}.blocker.min_sin;
 
 // --- Scenes -------------------------------------------------------------------------------------
-
-// A box of half extents h centred at the origin, outward winding, flat normals.
-data::MeshData box_mesh(glm::vec3 h, glm::vec3 colour) {
-  data::MeshData m;
-  m.name = "box";
-  auto corner = [&](int i) {
-    return glm::vec3((i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z);
-  };
-  const int q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                       {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
-  const glm::vec3 normal[6] = {{0, 0, -1}, {0, 0, 1}, {0, -1, 0}, {0, 1, 0}, {-1, 0, 0}, {1, 0, 0}};
-  for (int f = 0; f < 6; ++f) {
-    const auto base = static_cast<std::uint32_t>(m.positions.size());
-    for (int k = 0; k < 4; ++k)
-      m.positions.push_back(corner(q[f][k])), m.normals.push_back(normal[f]);
-    for (std::uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + k);
-  }
-  m.base_color = glm::vec4(colour, 1.0f);
-  return m;
-}
 
 // The circumscribed spheres of a g.x x g.y x g.z grid of cells over the box (the fitted set's
 // stand-in: every sphere bounds its cell, neighbours intersect).
@@ -156,7 +137,7 @@ void add_object(Scene& s, glm::vec3 half, glm::ivec3 cells, glm::vec2 xy, float 
   Object o;
   o.half = half;
   o.albedo = albedo;
-  o.mesh = box_mesh(half, albedo);
+  o.mesh = sl::test::box_mesh(-half, half, albedo);
   o.spheres = cell_spheres(half, cells);
   o.pose.rotation = glm::mat3(glm::rotate(glm::mat4(1.0f), turn, glm::vec3(0, 0, 1)));
   o.pose.translation = glm::vec3(xy, 0.3f + half.z);
