@@ -90,6 +90,40 @@ TEST(RadianceSh, UnderAnAlbedoPlane) {
   EXPECT_GT(e.rays, e.samples);
 }
 
+// The bounce alone (direct off, the bake's light decoupling): under the same plane only its
+// reflection remains, a L above and nothing below; a light the probe sees directly adds nothing
+// (no occluder reflects it), and fewer rays are cast than by the full capture.
+TEST(RadianceSh, BounceAloneLeavesOnlyTheReflection) {
+  SceneDesc d;
+  d.environment = EnvironmentLight{constant_map(64, 32, glm::vec3(1.0f))};
+  MeshInstance plane{quad(2000.0f, 1.0f)};
+  plane.albedo = glm::vec3(0.5f, 0.25f, 0.8f);
+  d.meshes.push_back(plane);
+  const Scene scene(d);
+  const std::vector<glm::vec3> p = {{0, 0, 0}};
+  RadianceShOptions o;
+  o.samples = 2048;
+  const auto full = radiance_sh<3>(scene, p, o)[0];
+  o.direct = false;
+  const auto e = radiance_sh<3>(scene, p, o)[0];
+  for (int c = 0; c < 3; ++c) {
+    const double a = plane.albedo[c];
+    const sh::Coeffs<3> exact =
+        quadrature<3>([a](const glm::vec3& w) { return w.z > 0 ? a : 0.0; });
+    for (int i = 0; i < 9; ++i)
+      EXPECT_LE(std::fabs(e.mean[c][i] - exact[i]), 4 * e.std_error[c][i] + 2e-3)
+          << "channel " << c << " coefficient " << i << " estimate " << e.mean[c][i] << " exact "
+          << exact[i];
+  }
+  EXPECT_LT(e.rays, full.rays);
+  // A light in the open: nothing reflects it, so nothing arrives.
+  SceneDesc dl;
+  dl.lights.push_back({glm::vec3(0, 0, 3), 1.0f, glm::vec3(5.0f), "l"});
+  const auto lit = radiance_sh<2>(Scene(dl), p, o)[0];
+  for (int c = 0; c < 3; ++c)
+    for (int i = 0; i < 4; ++i) EXPECT_EQ(lit.mean[c][i], 0.0f);
+}
+
 // One spherical light, nothing else: the radiance is L inside its cone.
 TEST(RadianceSh, SphericalLightCone) {
   SceneDesc d;

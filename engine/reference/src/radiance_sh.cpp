@@ -46,7 +46,8 @@ RadianceShEstimate<N> estimate(const Scene& scene, const glm::vec3& p, std::size
   const StrataGrid grid = StrataGrid::for_count(o.samples / 2, o.stratified);
   Pcg32 rng(o.seed, index, kRadianceShSalt);
   const EnvironmentSampler* env = scene.environment();
-  const bool sample_env = env != nullptr && env->can_sample();
+  const bool direct = o.direct;
+  const bool sample_env = direct && env != nullptr && env->can_sample();
   constexpr double kSpherePdf = 0.25 * std::numbers::inv_pi;
   const bool bounce = o.bounce && scene.reflects();
   PairedMean<static_cast<std::size_t>(3 * N * N)> acc;
@@ -73,7 +74,7 @@ RadianceShEstimate<N> estimate(const Scene& scene, const glm::vec3& p, std::size
                                         {o.bounce_samples, o.heuristic, o.ray_offset}, rng, rays);
           project<N>(gk, glm::dvec3(hit.albedo) * e * std::numbers::inv_pi, dir, 1 / kSpherePdf);
         }
-      } else if (env != nullptr) {
+      } else if (direct && env != nullptr) {
         const EnvironmentSampler::Lookup l = env->lookup(dir);
         const double w = sample_env ? detail::mis_weight(o.heuristic, kSpherePdf, l.pdf) : 1.0;
         project<N>(gk, glm::dvec3(l.radiance), dir, w / kSpherePdf);
@@ -88,7 +89,7 @@ RadianceShEstimate<N> estimate(const Scene& scene, const glm::vec3& p, std::size
       }
       // One cone direction per light.
       for (const SphereLight& light : scene.lights()) {
-        if (black(light.radiance)) continue;
+        if (!direct || black(light.radiance)) continue;
         const glm::dvec3 d = glm::dvec3(light.center) - glm::dvec3(p);
         const double dist2 = glm::dot(d, d), r2 = double(light.radius) * light.radius;
         if (dist2 <= r2) continue;  // inside or on the light: culled (scene.h)

@@ -123,28 +123,19 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
   BakeReport rep;
 
   // Adaptive placement's captures: streams from 2^40 on (the bake's own start at 0), numbered
-  // in call order. Indirect only (light decoupling, [Sukys14] sec. 3.1.2): the full capture minus
-  // a direct-only capture (radiance_sh has no bounce-only switch; the direct part's own noise
-  // stays in the difference, 0.1% of the direct light in the room at 1,024 samples).
+  // in call order. Indirect only (light decoupling, [Sukys14] sec. 3.1.2): the bounce alone
+  // (RadianceShOptions::direct off).
   std::uint64_t placement_stream = std::uint64_t{1} << 40;
   const CaptureFn placement_capture = [&](std::span<const glm::vec3> pts, bool indirect,
                                           std::vector<float>& sh_out,
                                           std::vector<float>& share_out) {
     std::size_t d = 0;
     Capture c;
-    capture_any(s.bands, traced, scene, pts, o, placement_stream, c, chunk, d, pts.size(), {});
+    reference::RadianceShOptions oc = o;
+    oc.direct = !indirect;
+    capture_any(s.bands, traced, scene, pts, oc, placement_stream, c, chunk, d, pts.size(), {});
     placement_stream += pts.size();
     rep.placement_rays += c.rays;
-    if (indirect) {
-      reference::RadianceShOptions od = o;
-      od.bounce = false;
-      Capture direct;
-      capture_any(s.bands, traced, scene, pts, od, placement_stream, direct, chunk, d, pts.size(),
-                  {});
-      placement_stream += pts.size();
-      rep.placement_rays += direct.rays;
-      for (std::size_t k = 0; k < c.sh.size(); ++k) c.sh[k] -= direct.sh[k];
-    }
     sh_out = std::move(c.sh);
     share_out = std::move(c.share);
   };

@@ -13,6 +13,11 @@
 //    at x with the scene's visibility, estimated there with bounce_samples directions per source
 //    exactly as indirect_irradiance does (estimators.h; docs/reference.md "One diffuse bounce").
 //
+// options.direct = false with options.bounce keeps the bounce alone (the probe bake's "light
+// decoupling", [Sukys14] sec. 3.1.2): no environment or light term at the point itself, the
+// bounce's own direct light at the hit unchanged; the environment-map and light samples (and
+// their shadow rays) are then skipped.
+//
 // Sampling (per point, `samples` rounded down to 2 x a grid of H strata of the unit square):
 // in every stratum two independent sets of
 //  - one uniform sphere direction (density 1/(4 pi)): its first hit gives the bounce term or,
@@ -55,6 +60,7 @@
 namespace penumbra::reference {
 
 struct RadianceShOptions : SamplingOptions {
+  bool direct = true;      // the environment and the lights as seen from the point
   bool bounce = true;      // one diffuse bounce off the occluders' albedo
   int bounce_samples = 4;  // direct samples per source at each reflective hit (BounceOptions)
   MisHeuristic heuristic = MisHeuristic::kPower;
