@@ -167,6 +167,7 @@ int main(int argc, char** argv) {
     assets::save_probe_cloud_file(out_path, cloud);
     const std::size_t placed = r.placed;
     std::printf("scene            %s (%s)\n", scene.name.c_str(), scene_path.string().c_str());
+    for (const std::string& note : scene.notes) std::printf("note             %s\n", note.c_str());
     const char* method = s.placement == probe_bake::PlacementMethod::kGrid         ? "grid"
                          : s.placement == probe_bake::PlacementMethod::kSpawnMerge ? "spawn-merge"
                                                                                    : "gradient";

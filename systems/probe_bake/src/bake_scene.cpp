@@ -184,6 +184,18 @@ void add_geometry(BakeScene& s, const Reader& r, const Json& g, const std::strin
                    glm::vec3(g.contains("scale") ? r.positive(g, path, "scale") : 1.0f));
     reference::MeshInstance inst{assets::merge_instances(model), m, albedo};
     inst.mesh.name = name;
+    const MeshClosure closure = mesh_closure(inst.mesh);
+    if (closure.closed()) {
+      Solid solid;
+      solid.kind = Solid::Kind::kMesh;
+      solid.mesh = std::make_shared<const SolidMesh>(inst.mesh, m);
+      s.solids.push_back(solid);
+    } else {
+      s.notes.push_back(path + " (" + r.string(g, path, "file") + "): open mesh (" +
+                        std::to_string(closure.boundary_edges) + " boundary, " +
+                        std::to_string(closure.nonmanifold_edges) +
+                        " non-manifold edges): no inside, probes in it are not found invalid");
+    }
     s.desc.meshes.push_back(std::move(inst));
   } else {
     r.fail(path + ".kind",
@@ -235,6 +247,9 @@ bool BakeScene::inside(const glm::vec3& p) const {
         if (p.z < h.origin.z + z) return true;
         break;
       }
+      case Solid::Kind::kMesh:
+        if (s.mesh && s.mesh->inside(p)) return true;
+        break;
     }
   }
   return false;

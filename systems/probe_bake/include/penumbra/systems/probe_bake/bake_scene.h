@@ -24,13 +24,15 @@
 // (../shared/data in this project); the loaders' own errors (missing file, NaN in a mesh or
 // height map) come through unchanged, naming their file.
 // Solids (validity): boxes, walls, arches, spheres and height fields have an inside (below the
-// surface for a height field, within its x-y extent). glTF meshes have none (they may be open):
-// a probe inside one is never found invalid.
+// surface for a height field, within its x-y extent); a glTF mesh has one when it is closed
+// (solid_mesh.h). An open glTF mesh has none, so a probe inside it is never found invalid; the
+// scene says so in `notes`.
 // Errors: std::runtime_error "<scene file>: <field path>: <reason>", e.g.
 //   "scenes/room.json: geometry[3].size[1]: expected a number, got string".
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -39,16 +41,18 @@
 #include <glm/vec3.hpp>
 
 #include "penumbra/reference/scene.h"
+#include "penumbra/systems/probe_bake/solid_mesh.h"
 
 namespace penumbra::probe_bake {
 
 struct Solid {
-  enum class Kind { kBox, kSphere, kHeightField };
+  enum class Kind { kBox, kSphere, kHeightField, kMesh };
   Kind kind = Kind::kBox;
   glm::mat4 world_to_unit{1.0f};  // box: inside when every |coordinate| < 0.5
   glm::vec3 center{0.0f};         // sphere
   float radius = 0;
-  int height_field = -1;  // index into desc.height_fields
+  int height_field = -1;                  // index into desc.height_fields
+  std::shared_ptr<const SolidMesh> mesh;  // a closed glTF mesh
 };
 
 struct ProbeVolume {
@@ -62,6 +66,7 @@ struct BakeScene {
   reference::SceneDesc desc;
   std::vector<Solid> solids;
   ProbeVolume volume;
+  std::vector<std::string> notes;  // e.g. an open glTF mesh that has no inside
 
   // Is p strictly inside a solid (see above)?
   bool inside(const glm::vec3& p) const;
