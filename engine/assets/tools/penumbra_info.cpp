@@ -1,5 +1,7 @@
 // penumbra_info FILE: what an asset file holds (./penumbra info FILE). Environment map (.exr
-// with colour channels): size, radiance range and mean, 4-band SH per channel. glTF (.gltf,
+// with colour channels): size, radiance range and mean, 4-band SH per channel, and the light
+// sources detected in it (systems/environment, default settings: direction as a unit vector and
+// azimuth/elevation, angular radius, share of the map's energy). glTF (.gltf,
 // .glb): meshes, vertices, triangles, nodes. Height map (.pgm, single-channel .exr): size, cell
 // size, height range. Sphere set (.psph): count, roots, radius range, bounds of the set, fit
 // method, Er, coverage, source model. Probe cloud (.pcld): probes, bands, inner tetrahedra,
@@ -22,6 +24,7 @@
 #include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/assets/sphere_file.h"
 #include "penumbra/sh/projection.h"
+#include "penumbra/systems/environment/light_source_detection.h"
 #include "penumbra/systems/probe_cloud/probe_cloud_validation.h"
 
 namespace {
@@ -61,6 +64,24 @@ void print_environment(const data::EnvironmentMap& m, double ms) {
     std::printf("\n");
   }
   std::printf("  loaded in  %.2f ms\n", ms);
+  const environment::DetectionSettings settings;
+  const environment::LightSourceDetection d = environment::detect_light_sources(m, settings);
+  std::printf("  sources     %zu of %d requested (percentiles %.0f/%.0f, %.2f ms)%s%s\n",
+              d.sources.size(), settings.source_count,
+              static_cast<double>(settings.light_percentile),
+              static_cast<double>(settings.halo_percentile), d.milliseconds,
+              d.stop.empty() ? "" : "; stopped: ", d.stop.c_str());
+  for (std::size_t i = 0; i < d.sources.size(); ++i) {
+    const environment::DetectedSource& s = d.sources[i];
+    std::printf(
+        "    %zu  direction (%.4f, %.4f, %.4f)  azimuth %.2f deg  elevation %.2f deg  radius %.2f "
+        "deg  energy %.2f%%\n",
+        i, static_cast<double>(s.direction.x), static_cast<double>(s.direction.y),
+        static_cast<double>(s.direction.z), static_cast<double>(s.azimuth_deg),
+        static_cast<double>(s.elevation_deg),
+        static_cast<double>(s.angular_radius) * 180.0 / 3.14159265358979,
+        100.0 * static_cast<double>(s.energy_share));
+  }
 }
 
 void print_model(const assets::Model& m, double ms) {

@@ -1,10 +1,17 @@
-// The distant environment light, a world resource: an HDR map and its SH projection.
+// The distant environment light, a world resource: an HDR map and its SH projection, and the
+// light sources found in it with the map's occluded environment maps (OEMs, [Ambrosj16] ch. 4;
+// written by systems/environment, environment_light_update.h; empty until then).
 // Writers (the environment stage, the demo) bump `version` when the map or its SH change;
 // rotating the sky only changes rotation_z (readers re-shade from stored transfer vectors).
+// `radiance` always holds the SH of the whole map, sources included; readers that know nothing
+// of the sources keep using it unchanged.
 #pragma once
 
 #include <cstdint>
 #include <memory>
+#include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "penumbra/sh/basis.h"
 
@@ -14,11 +21,28 @@ struct EnvironmentMap;  // penumbra/data/environment_map.h
 
 namespace penumbra::components {
 
+// A bright source found in the map (a sun, a lamp), as a small directional light. All in the
+// map's own frame (unrotated: rotate by rotation_z like `radiance`).
+struct EnvironmentSource {
+  glm::vec3 direction{0, 0, 1};  // unit, from the scene towards the source, z-up
+  float angular_radius = 0;      // radians (3 standard deviations of its texels, [Ambrosj16])
+  glm::vec3 radiance{0};         // mean RGB radiance over its texels
+  glm::vec3 irradiance{0};       // RGB radiance x solid angle: irradiance at normal incidence
+  float energy_share = 0;        // share of the map's luminous energy in its texels
+};
+
 struct EnvironmentLight {
   std::shared_ptr<const data::EnvironmentMap> map;  // may be null when only SH is known
-  sh::CoeffsRgb<sh::kDefaultBands> radiance{};        // SH of the map's radiance, unrotated
+  sh::CoeffsRgb<sh::kDefaultBands> radiance{};      // SH of the map's radiance, unrotated
   float rotation_z = 0;  // radians, counter-clockwise about +z (the map's world orientation)
   std::uint64_t version = 0;
+  // Sources, brightest first (at most 8), and the 2^sources.size() OEM SH sets: index = mask of
+  // the sources still in the map (bit j set: source j present), so the last set is the whole
+  // map and set 0 the map without any source. Unrotated, like `radiance`. Empty: none detected.
+  std::vector<EnvironmentSource> sources;
+  std::vector<sh::CoeffsRgb<3>> oem_sh3;                 // 3 bands ([Ambrosj16] sec. 4.2)
+  std::vector<sh::CoeffsRgb<sh::kDefaultBands>> oem_sh;  // kDefaultBands
+  std::uint64_t sources_version = 0;  // the `version` the sources and OEMs were found for
 };
 
 }  // namespace penumbra::components
