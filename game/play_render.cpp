@@ -73,6 +73,7 @@ struct Sim {
       demo.follow_pair = o.follow_pair;
       if (o.probe_objects >= 0) demo.probes.count = o.probe_objects;
       demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
+      demo.probes.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/probes");
       game::populate_terrain_demo(world, demo);
       world.resource<game::HorizonProbe>().aspect =
           static_cast<float>(o.width) / static_cast<float>(o.height);
@@ -129,9 +130,11 @@ struct Sim {
       if (const auto* cloud = world.try_resource<components::ProbeCloudResource>();
           cloud && cloud->cloud)
         std::printf(
-            "probes: %zu probes, %u tetrahedra, built at start-up in %.2f s; sky re-projections "
-            "%llu (last %.2f ms)\n",
+            "probes: %zu probes, %u tetrahedra, built at start-up in %.2f s (sky steps: %zu baked, "
+            "%zu from the cache %s, %.2f s); sky step changes %llu (last %.2f ms)\n",
             cloud->cloud->probe_count(), cloud->cloud->inner_count, bake->startup_seconds,
+            bake->steps_baked, bake->steps_loaded,
+            bake->cache_folder.empty() ? "(none)" : bake->cache_folder.c_str(), bake->bake_seconds,
             static_cast<unsigned long long>(bake->bakes - 1), bake->last_bake_ms);
     table.print(std::cout);
     std::cout.flush();

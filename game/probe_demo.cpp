@@ -32,26 +32,24 @@
 #include "penumbra/data/height_field.h"
 #include "penumbra/data/mesh.h"
 #include "penumbra/data/probe_cloud.h"
-#include "penumbra/reference/scene.h"
+#include "penumbra/game/probe_sky_bake.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/sh/convolution.h"
-#include "penumbra/sh/projection.h"
 #include "penumbra/systems/probe_cloud/probe_cloud_build.h"
 #include "penumbra/systems/probe_cloud/probe_systems.h"
 #include "terrain_height.h"
 
 namespace penumbra::game {
 
-// The probes' view of the sky: the map on coarse cells, every probe's visibility per cell, and
-// the cloud the SH are written into.
+// The baked SH per sky step (probe_sky_bake.h) and what a step that is still missing needs.
 struct ProbeSkyBake::Data {
-  int w = 0, h = 0;                    // sky cells: w around, h from zenith to nadir
-  std::vector<glm::vec3> radiance;     // per map-frame cell (row-major, row 0 at the zenith), x its
-                                       // solid angle: the cell's radiant intensity per unit area
-  std::vector<sh::Coeffs<3>> basis;    // y_i of each world-frame cell's centre direction
-  std::vector<std::uint64_t> visible;  // per probe, words_per_probe words: bit c = cell c seen
-  std::size_t words_per_probe = 0;
-  data::ProbeCloud cloud;  // positions, cells, transforms; sh replaced at every projection
+  int w = 0;                              // sky steps around (2 pi / w each)
+  std::vector<std::vector<float>> steps;  // per step: the cloud's SH; empty: not baked yet
+  data::ProbeCloud cloud;                 // positions, cells, transforms; sh of the step shown
+  data::HeightField field;                // heights as baked (the demo's vertical scale)
+  std::shared_ptr<const data::EnvironmentMap> map;
+  ProbeSkyBakeInputs inputs;  // points into field and map
+  std::filesystem::path cache_dir;
 };
 
 namespace {
@@ -70,67 +68,27 @@ using components::VertexLighting;
 constexpr int kBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
 constexpr int kCoeffs = kBands * kBands;
 
-glm::vec3 cell_direction(int x, int y, int w, int h) {
-  return sh::equirect_direction((x + 0.5f) / static_cast<float>(w),
-                                (y + 0.5f) / static_cast<float>(h));
-}
-
-// The map averaged onto w x h cells, each cell's radiance times its solid angle.
-std::vector<glm::vec3> coarse_sky(const data::EnvironmentMap& map, int w, int h) {
-  std::vector<glm::vec3> out(static_cast<std::size_t>(w) * h, glm::vec3(0.0f));
-  for (int y = 0; y < map.height; ++y) {
-    const float dw = sh::equirect_texel_solid_angle(y, map.width, map.height);
-    const int cy = std::min(h - 1, y * h / map.height);
-    for (int x = 0; x < map.width; ++x) {
-      const int cx = std::min(w - 1, x * w / map.width);
-      const float* t = map.texel(x, y);
-      out[static_cast<std::size_t>(cy) * w + cx] += dw * glm::vec3(t[0], t[1], t[2]);
-    }
-  }
-  return out;
-}
-
-// The irradiance SH of every probe (data/probe_cloud.h layout) for the sky turned by `shift`
-// cells counter-clockwise: world cell (x, y) sees map cell (x - shift, y).
-std::vector<float> project(const ProbeSkyBake::Data& d, int shift) {
-  const std::size_t probes = d.cloud.probe_count();
-  std::vector<float> out(probes * 3 * kCoeffs);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, probes, 8),
-                    [&](const tbb::blocked_range<std::size_t>& r) {
-                      for (std::size_t p = r.begin(); p != r.end(); ++p) {
-                        sh::CoeffsRgb<kBands> rad{};
-                        const std::uint64_t* bits = d.visible.data() + p * d.words_per_probe;
-                        for (int y = 0; y < d.h; ++y)
-                          for (int x = 0; x < d.w; ++x) {
-                            const std::size_t c = static_cast<std::size_t>(y) * d.w + x;
-                            if (!(bits[c >> 6] >> (c & 63) & 1)) continue;
-                            const int mx = ((x - shift) % d.w + d.w) % d.w;
-                            const glm::vec3& l = d.radiance[static_cast<std::size_t>(y) * d.w + mx];
-                            const sh::Coeffs<kBands>& b = d.basis[c];
-                            for (int k = 0; k < kCoeffs; ++k) {
-                              rad[0][k] += l.x * b[k];
-                              rad[1][k] += l.y * b[k];
-                              rad[2][k] += l.z * b[k];
-                            }
-                          }
-                        for (int ch = 0; ch < 3; ++ch) {
-                          const sh::Coeffs<kBands> e = sh::irradiance_convolve<kBands>(rad[ch]);
-                          std::copy(e.begin(), e.end(), out.begin() + (p * 3 + ch) * kCoeffs);
-                        }
-                      }
-                    });
-  return out;
-}
-
 int sky_shift(float rotation, int w) {
   const float step = 2 * std::numbers::pi_v<float> / static_cast<float>(w);
   const long s = std::lround(rotation / step);
   return static_cast<int>(((s % w) + w) % w);
 }
 
-std::shared_ptr<const data::ProbeCloud> cloud_with_sh(const ProbeSkyBake::Data& d, int shift) {
+// The cloud with step `shift`'s SH, baking the step first if it is missing (a sky that turns
+// when populate_probe_demo was told it would not).
+std::shared_ptr<const data::ProbeCloud> cloud_with_sh(ProbeSkyBake& bake, int shift) {
+  ProbeSkyBake::Data& d = *bake.data;
+  std::vector<float>& sh = d.steps[static_cast<std::size_t>(shift)];
+  if (sh.empty()) {
+    const int which[] = {shift};
+    ProbeSkySteps r = bake_probe_sky_steps(d.inputs, d.cloud, d.cache_dir, which);
+    sh = std::move(r.sh[static_cast<std::size_t>(shift)]);
+    bake.steps_baked += r.baked;
+    bake.steps_loaded += r.loaded;
+    for (std::string& n : r.notes) bake.notes.push_back(std::move(n));
+  }
   auto cloud = std::make_shared<data::ProbeCloud>(d.cloud);
-  cloud->sh = project(d, shift);
+  cloud->sh = sh;
   return cloud;
 }
 
@@ -173,7 +131,7 @@ void turn_sky(ecs::World& w) {
   const int shift = sky_shift(env->rotation_z, bake.data->w);
   if (shift == bake.shift) return;
   const auto t0 = std::chrono::steady_clock::now();
-  w.resource<ProbeCloudResource>().replace(cloud_with_sh(*bake.data, shift));
+  w.resource<ProbeCloudResource>().replace(cloud_with_sh(bake, shift));
   bake.last_bake_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   bake.shift = shift;
@@ -326,8 +284,10 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
   }
   const Terrain* terrain = find_terrain(world);
   if (!terrain || !map) throw std::invalid_argument("probe demo: needs a terrain and a sky map");
-  if (config.grid < 2 || config.heights.empty() || config.sky_width < 4 || config.sky_width % 2)
-    throw std::invalid_argument("probe demo: grid >= 2, one height at least, even sky_width >= 4");
+  if (config.grid < 2 || config.heights.empty() || config.sky_steps < 1 || config.samples < 2)
+    throw std::invalid_argument(
+        "probe demo: grid >= 2, one height at least, sky_steps >= 1, "
+        "samples >= 2");
   const auto t0 = std::chrono::steady_clock::now();
 
   // Probes: a grid over the terrain at each height above the local ground.
@@ -346,41 +306,33 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
   auto data = std::make_shared<ProbeSkyBake::Data>();
   data->cloud = probe_cloud::build_probe_cloud(positions, {}, build);
 
-  // The sky on coarse cells, and each probe's visibility of every cell through the terrain
-  // (the field at the demo's vertical exaggeration, as the terrain system sees it).
-  data->w = config.sky_width;
-  data->h = config.sky_width / 2;
-  data->radiance = coarse_sky(*map, data->w, data->h);
-  const std::size_t cells = static_cast<std::size_t>(data->w) * data->h;
-  data->basis.resize(cells);
-  for (int y = 0; y < data->h; ++y)
-    for (int x = 0; x < data->w; ++x)
-      data->basis[static_cast<std::size_t>(y) * data->w + x] =
-          sh::eval_basis<kBands>(cell_direction(x, y, data->w, data->h));
-  reference::SceneDesc desc;
-  reference::HeightFieldInstance field{f, terrain->origin};
-  for (float& v : field.field.heights) v *= terrain->height_scale;
-  desc.height_fields.push_back(std::move(field));
-  const reference::Scene scene(desc);
-  data->words_per_probe = (cells + 63) / 64;
-  const std::size_t probes = data->cloud.probe_count();
-  data->visible.assign(probes * data->words_per_probe, 0);
-  const float far = 10.0f * extent;
-  tbb::parallel_for(
-      tbb::blocked_range<std::size_t>(0, probes, 4), [&](const tbb::blocked_range<std::size_t>& r) {
-        for (std::size_t p = r.begin(); p != r.end(); ++p) {
-          std::uint64_t* bits = data->visible.data() + p * data->words_per_probe;
-          for (std::size_t c = 0; c < cells; ++c) {
-            const glm::vec3 d = cell_direction(static_cast<int>(c % data->w),
-                                               static_cast<int>(c / data->w), data->w, data->h);
-            if (!scene.occluded(data->cloud.positions[p], d, far))
-              bits[c >> 6] |= std::uint64_t{1} << (c & 63);
-          }
-        }
-      });
-  probe_cloud::emplace_probe_cloud_resources(world, cloud_with_sh(*data, 0));
+  // Their lighting: the bake's capture per sky step (probe_sky_bake.h), from the cache when it
+  // has them; the field at the demo's vertical exaggeration, as the terrain system sees it.
+  data->w = config.sky_steps;
+  data->field = f;
+  for (float& v : data->field.heights) v *= terrain->height_scale;
+  data->map = std::move(map);
+  data->inputs.field = &data->field;
+  data->inputs.origin = terrain->origin;
+  data->inputs.albedo = terrain->albedo;
+  data->inputs.map = data->map.get();
+  data->inputs.steps = config.sky_steps;
+  data->inputs.samples = config.samples;
+  data->inputs.bounce = config.bounce;
+  data->cache_dir = config.cache_dir;
+  const std::vector<int> first = {0};
+  ProbeSkySteps steps =
+      bake_probe_sky_steps(data->inputs, data->cloud, data->cache_dir,
+                           config.sky_turns ? std::span<const int>() : std::span<const int>(first));
+  data->steps = std::move(steps.sh);
   ProbeSkyBake& bake = world.resource<ProbeSkyBake>();
+  bake.steps_baked = steps.baked;
+  bake.steps_loaded = steps.loaded;
+  bake.bake_seconds = steps.seconds;
+  bake.cache_folder = steps.folder.string();
+  bake.notes = std::move(steps.notes);
   bake.data = std::move(data);
+  probe_cloud::emplace_probe_cloud_resources(world, cloud_with_sh(bake, 0));
   bake.bakes = 1;
 
   // The objects: the models simplified as the boulders', bunny and Suzanne alternating.

@@ -227,7 +227,9 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   blocker_accumulation::emplace_blocker_resources(world);
   spherical_lights::emplace_spherical_light_resources(world);
   populate_boulders(world, dir.string(), config.boulders);
-  populate_probe_demo(world, dir.string(), map, config.probes);
+  ProbeDemoConfig probes = config.probes;
+  probes.sky_turns = config.sky_rotation_speed != 0;  // bake only the first step otherwise
+  populate_probe_demo(world, dir.string(), map, probes);
   world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
                     DebugSphere{});
 }

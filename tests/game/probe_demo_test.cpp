@@ -44,7 +44,8 @@ TerrainDemoConfig small_config() {
   config.boulders.count = 0;
   config.probes.count = 3;
   config.probes.grid = 8;
-  config.probes.sky_width = 32;
+  config.probes.sky_steps = 32;
+  config.probes.samples = 32;
   return config;
 }
 
@@ -142,7 +143,7 @@ TEST(ProbeDemo, ObjectIsBrighterOnALitSlopeThanInAShadowedValley) {
   ecs::World world;
   TerrainDemoConfig config = small_config();
   config.probes.count = 1;
-  config.probes.sky_width = 64;  // the demo's
+  config.probes.sky_steps = 32;  // the demo's
   config.sky_rotation_speed = 0;
   populate_terrain_demo(world, config);
   const auto cloud = world.resource<ProbeCloudResource>().cloud;

@@ -38,6 +38,7 @@ TEST(TerrainDemo, SkyLightAndEditsDriveTheShadowSystem) {
   ecs::World world;
   TerrainDemoConfig config;
   config.terrain_size = 64;     // a crop of the DEM: the same code path, less work
+  config.probes.count = 0;      // the probe cloud has its own tests (probe_demo_test.cpp)
   config.edit_interval = 0.1f;  // every 3 frames of 1/30 s
   populate_terrain_demo(world, config);
   jobs::Schedule schedule;
@@ -91,6 +92,7 @@ TEST(TerrainDemo, BouldersUseSimplifiedMeshesUnlessAskedNotTo) {
     TerrainDemoConfig config;
     config.terrain_size = 65;
     config.edit_interval = 0;
+    config.probes.count = 0;
     config.boulders.count = 3;  // bunny, bunny, Suzanne
     config.boulders.spheres = 8;
     config.boulders.simplify_error = simplify_error;
@@ -118,6 +120,7 @@ TEST(TerrainDemo, BouldersRollShadeAndShadowTheTerrain) {
   TerrainDemoConfig config;
   config.terrain_size = 129;
   config.edit_interval = 0;
+  config.probes.count = 0;
   config.boulders.count = 3;
   config.boulders.spheres = 8;
   config.boulders.radius = 400;

@@ -2,18 +2,15 @@
 // over the demo's terrain and a few floating objects lit by it through the probe-cloud traversal
 // system ([Sukys14] sec. 3.2, [Cupisz12]; systems/probe_cloud probe_systems.h), with debug views.
 //
-// The cloud (until a baker exists, the documented stand-in of docs/probe_cloud.md "In the main
-// job"): grid x grid probes over the terrain at each of `heights` above the local ground,
-// tetrahedralized at start-up (build_probe_cloud). Their irradiance SH (3 bands) come from the
-// environment map seen through the terrain: the map averaged onto sky_width x sky_width / 2
-// cells (the sun's energy lands in one cell, its direction that cell's centre), one shadow ray per
-// cell and probe against the terrain (engine/reference, Embree), the visible cells' radiance
-// projected on 3 bands and convolved with the clamped cosine (E(n) = sum_i sh_i y_i(n), engine/sh
-// conventions). The visibility is kept (a bit per cell and probe), so when the sky's rotation
-// moves by a cell's width (2 pi / sky_width) the SH are projected again from the rotated map (a
-// column shift, no rays) and the resource's cloud replaced: the walk's cached cells are then
+// The cloud: grid x grid probes over the terrain at each of `heights` above the local ground,
+// tetrahedralized at start-up (build_probe_cloud). Their irradiance SH (3 bands) are baked by the
+// probe bake's capture (probe_sky_bake.h: reference::radiance_sh through the terrain, with one
+// diffuse bounce off its albedo, `samples` per probe) once per sky step (2 pi / sky_steps), and
+// cached in `cache_dir` (penumbra_play: OUT/probes, default build/play/probes), so only the
+// first run with given inputs traces rays. When the sky's rotation reaches another step the
+// resource's cloud is replaced by that step's (no rays): the walk's cached cells are then
 // invalidated and every object locates afresh once. Terrain edits do not re-bake (the probes
-// keep the start-up terrain's visibility); the spherical light does not reach the probes.
+// keep the start-up terrain's lighting); the spherical light does not reach the probes.
 //
 // Systems (add_probe_demo_systems, in this order):
 //   demo_probe_floaters  reads FrameTime, Terrain, ProbeFloater; writes Transform
@@ -47,10 +44,13 @@ struct ProbeDemoConfig {
   int count = 5;  // floating objects (bunny, Suzanne, ...); 0: no objects and no cloud
   int grid = 12;  // probes per side over the terrain (>= 2)
   std::vector<float> heights{120.0f, 450.0f, 1200.0f};  // metres above the local ground
-  int sky_width = 64;     // sky cells around (sky_width / 2 from zenith to nadir): rays per probe
-                          // are sky_width^2 / 2; the re-bake step is 2 pi / sky_width
-  float radius = 180.0f;  // metres: the objects' bounding radius
-  float hover = 260.0f;   // metres: the objects' centre above the highest ground under them
+  int sky_steps = 32;            // sky rotations baked, 2 pi / sky_steps apart
+  int samples = 128;             // capture samples per probe and step
+  bool bounce = true;            // one diffuse bounce off the terrain
+  bool sky_turns = true;         // bake every step at start-up (false: step 0, others when reached)
+  std::string cache_dir;         // where baked steps are kept ("": nowhere, baked at every start)
+  float radius = 180.0f;         // metres: the objects' bounding radius
+  float hover = 260.0f;          // metres: the objects' centre above the highest ground under them
   float simplify_error = 0.02f;  // the meshes simplified as the boulders' (boulders.h)
   bool show = false;             // ProbeDebugView at start
 };
@@ -86,14 +86,19 @@ struct ProbeWalkTrace {
 // Marks the entity whose DebugLines draw the probes.
 struct ProbeCloudView {};
 
-// Resource: the probes' sky visibility and the map, for re-projections when the sky turns.
+// Resource: the baked steps and the bake's figures, for re-placing the SH when the sky turns.
 struct ProbeSkyBake {
   struct Data;
   std::shared_ptr<Data> data;
-  int shift = 0;               // sky cells the current SH are turned by
-  std::uint64_t bakes = 0;     // projections so far (the start-up one included)
-  double startup_seconds = 0;  // the start-up build: rays, projection, tetrahedralization
-  double last_bake_ms = 0;     // the last re-projection
+  int shift = 0;                   // sky steps the current SH are turned by
+  std::uint64_t bakes = 0;         // clouds published so far (the start-up one included)
+  double startup_seconds = 0;      // the start-up build: bake or cache, tetrahedralization
+  double bake_seconds = 0;         // of which the steps (traced or loaded)
+  double last_bake_ms = 0;         // the last replacement
+  std::size_t steps_baked = 0;     // steps traced (this run)
+  std::size_t steps_loaded = 0;    // steps read from the cache
+  std::string cache_folder;        // "" without a cache
+  std::vector<std::string> notes;  // cache files rebaked and why
 };
 
 // Builds the cloud over the world's Terrain under `map` (rotation 0) and adds the resources
