@@ -333,9 +333,10 @@ std::vector<glm::vec3> method_environment(const terrain_shadow::TerrainShadowCon
 template sh::CoeffsRgb<3> environment_sh<3>(const data::EnvironmentMap&, float);
 template sh::CoeffsRgb<4> environment_sh<4>(const data::EnvironmentMap&, float);
 template sh::CoeffsRgb<5> environment_sh<5>(const data::EnvironmentMap&, float);
+template sh::CoeffsRgb<6> environment_sh<6>(const data::EnvironmentMap&, float);
 #define PENUMBRA_VIS_INSTANTIATE(N)                                                               \
   template ReferenceVisibility<N> reference_visibility<N>(                                        \
-      const data::HeightField&, float, const ReceiverSet&, const ReferenceOptions&);            \
+      const data::HeightField&, float, const ReceiverSet&, const ReferenceOptions&);              \
   template std::vector<reference::RgbEstimate> shade_visibility<N>(const ReferenceVisibility<N>&, \
                                                                    const sh::CoeffsRgb<N>&);      \
   template std::vector<reference::RgbEstimate> shade_visibility<N>(const ReferenceVisibility<N>&, \

@@ -55,6 +55,16 @@ const char* to_string(CapHorizons h) {  // the names the benchmark records use
   return "?";
 }
 
+const char* to_string(TransferMethod t) {
+  switch (t) {
+    case TransferMethod::kExact:
+      return "exact";
+    case TransferMethod::kTruncatedProduct:
+      return "truncated";
+  }
+  return "?";
+}
+
 const char* to_string(LightShading s) {
   switch (s) {
     case LightShading::kShWedges:
@@ -66,7 +76,6 @@ const char* to_string(LightShading s) {
 }
 
 namespace {
-
 
 TerrainShadowConfig checked(const TerrainShadowConfig& c) {
   if (c.azimuths < 3 || c.light_azimuths < 3)
@@ -122,8 +131,13 @@ void compute_horizons(HorizonMethod method, const data::HeightField& f,
 template <int N>
 TerrainShadowing<N>::TerrainShadowing(const TerrainShadowConfig& config)
     : config_(checked(config)),
-      hemisphere_(config.azimuths, WedgeDomain::kHemisphere, config.table_resolution),
-      sphere_(config.light_azimuths, WedgeDomain::kSphere, config.table_resolution) {}
+      frame_(config.azimuths),
+      sphere_(config.light_azimuths, WedgeDomain::kSphere, config.table_resolution) {
+  if (config_.transfer == TransferMethod::kExact)
+    hemisphere_exact_.emplace(config_.azimuths, WedgeDomain::kHemisphere, config_.table_resolution);
+  else
+    hemisphere_.emplace(config_.azimuths, WedgeDomain::kHemisphere, config_.table_resolution);
+}
 
 template <int N>
 glm::vec3 TerrainShadowing<N>::position(int x, int y) const {
@@ -149,13 +163,20 @@ void TerrainShadowing<N>::compute_normals(const TexelRect& r) {
 template <int N>
 void TerrainShadowing<N>::compute_transfer_rows(const std::vector<unsigned char>* mask) {
   const int w = field_->width;
+  const bool exact = config_.transfer == TransferMethod::kExact;
   tbb::parallel_for(0, field_->height, [&](int y) {
+    std::vector<float> raised(exact ? static_cast<std::size_t>(config_.azimuths) : 0);
     for (int x = 0; x < w; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * w + x;
       if (mask && !(*mask)[i]) continue;
-      // [Meier13] eq. 4.19 then 4.21.
-      transfer_[i] =
-          diffuse_transfer<N>(hemisphere_.visibility(horizons_.texel(x, y)), normals_[i]);
+      if (exact) {  // ours (transfer.h): V above the horizon and the tangent plane, N + 1 bands
+        frame_.raise_to_tangent_plane(horizons_.texel(x, y), normals_[i], raised.data());
+        transfer_[i] =
+            exact_diffuse_transfer<N>(hemisphere_exact_->visibility(raised.data()), normals_[i]);
+      } else {  // [Meier13] eq. 4.19 then 4.21.
+        transfer_[i] =
+            diffuse_transfer<N>(hemisphere_->visibility(horizons_.texel(x, y)), normals_[i]);
+      }
     }
   });
 }
@@ -397,5 +418,6 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
 template class TerrainShadowing<3>;
 template class TerrainShadowing<4>;
 template class TerrainShadowing<5>;
+template class TerrainShadowing<6>;
 
 }  // namespace penumbra::terrain_shadow

@@ -2,14 +2,21 @@
 // 4.27-4.29, appendix A.1). Pure functions, safe to call from any thread.
 #include "penumbra/systems/terrain_shadow/transfer.h"
 
+#include <array>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
 #include "penumbra/sh/product.h"
+#include "penumbra/sh/projection.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
+
+#include "fast_math.h"
+#include "sh_any.h"
 
 namespace penumbra::terrain_shadow {
 
@@ -22,6 +29,84 @@ sh::Coeffs<N> diffuse_transfer(const sh::Coeffs<N>& visibility, const glm::vec3&
   return sh::product<N>(visibility, sh::rotate_zh<N>(kCosine, normal));
 }
 
+namespace {
+
+// G_ij = integral y_i y_j (x, y, z) dw for i < N^2, j < (N + 1)^2, the non-zero ones (|l_i - l_j|
+// = 1), by a quadrature exact for the degree-2N integrand.
+struct Coupling {
+  std::uint16_t i, j;
+  float g[3];
+};
+template <int N>
+std::vector<Coupling> couplings() {
+  constexpr int M = N + 1;
+  const sh::SphereQuadrature q = sh::SphereQuadrature::gauss(M + 1, 2 * M + 2);
+  std::vector<double> g(static_cast<std::size_t>(3 * N * N * M * M), 0.0);
+  std::vector<double> y(M * M);
+  for (std::size_t d = 0; d < q.directions.size(); ++d) {
+    const glm::dvec3 w = glm::normalize(glm::dvec3(q.directions[d]));
+    detail::eval_basis_any(M, w.x, w.y, w.z, y.data());
+    for (int i = 0; i < N * N; ++i)
+      for (int j = 0; j < M * M; ++j)
+        for (int c = 0; c < 3; ++c)
+          g[(static_cast<std::size_t>(i) * M * M + j) * 3 + c] += q.weights[d] * y[i] * y[j] * w[c];
+  }
+  std::vector<Coupling> out;
+  for (int i = 0; i < N * N; ++i)
+    for (int j = 0; j < M * M; ++j) {
+      const double* gij = &g[(static_cast<std::size_t>(i) * M * M + j) * 3];
+      if (std::abs(gij[0]) + std::abs(gij[1]) + std::abs(gij[2]) < 1e-6) continue;
+      out.push_back(
+          {static_cast<std::uint16_t>(i),
+           static_cast<std::uint16_t>(j),
+           {static_cast<float>(gij[0]), static_cast<float>(gij[1]), static_cast<float>(gij[2])}});
+    }
+  return out;
+}
+
+}  // namespace
+
+template <int N>
+sh::Coeffs<N> exact_diffuse_transfer(const sh::Coeffs<N + 1>& visibility, const glm::vec3& normal) {
+  assert(std::abs(glm::dot(normal, normal) - 1) < 1e-3f &&
+         "exact_diffuse_transfer: normal not unit");
+  // [Meier13] eq. 4.20's integrand projected exactly (ours), not eq. 4.21's truncated product.
+  static const std::vector<Coupling> kG = couplings<N>();
+  sh::Coeffs<N> out{};
+  for (const Coupling& c : kG)
+    out[c.i] += (normal.x * c.g[0] + normal.y * c.g[1] + normal.z * c.g[2]) * visibility[c.j];
+  return out;
+}
+
+template <int N>
+int exact_transfer_term_count() {
+  return static_cast<int>(couplings<N>().size());
+}
+
+AzimuthFrame::AzimuthFrame(int azimuths) {
+  for (int k = 0; k < azimuths; ++k) {
+    const double phi = 2 * std::numbers::pi * k / azimuths;
+    cos_.push_back(static_cast<float>(std::cos(phi)));
+    sin_.push_back(static_cast<float>(std::sin(phi)));
+  }
+}
+
+void AzimuthFrame::raise_to_tangent_plane(const float* angles, const glm::vec3& normal,
+                                          float* out) const {
+  // n.w = 0 along phi at tan(e) = -(n_x cos phi + n_y sin phi) / n_z (n_z > 0 on a height field).
+  const int n = azimuths();
+  const float inv_z = 1 / std::max(normal.z, 1e-6f);
+  constexpr int kChunk = 64;
+  float t[kChunk];
+  for (int k0 = 0; k0 < n; k0 += kChunk) {
+    const int count = std::min(kChunk, n - k0);
+    for (int k = 0; k < count; ++k)
+      t[k] = -(normal.x * cos_[k0 + k] + normal.y * sin_[k0 + k]) * inv_z;
+    detail::fast_atan_array(t, static_cast<std::size_t>(count));
+    for (int k = 0; k < count; ++k) out[k0 + k] = std::max(angles[k0 + k], t[k]);
+  }
+}
+
 template <int N>
 sh::Coeffs<N> spherical_light_radiance(const glm::vec3& to_centre, float radius) {
   const float d = glm::length(to_centre);
@@ -30,9 +115,11 @@ sh::Coeffs<N> spherical_light_radiance(const glm::vec3& to_centre, float radius)
   return sh::rotate_zh<N>(sh::zh_cap<N>(std::asin(radius / d)), to_centre / d);
 }
 
-#define PENUMBRA_TRANSFER_INSTANTIATE(N)                                              \
-  template sh::Coeffs<N> diffuse_transfer<N>(const sh::Coeffs<N>&, const glm::vec3&); \
-  template sh::Coeffs<N> spherical_light_radiance<N>(const glm::vec3&, float);
+#define PENUMBRA_TRANSFER_INSTANTIATE(N)                                                        \
+  template sh::Coeffs<N> diffuse_transfer<N>(const sh::Coeffs<N>&, const glm::vec3&);           \
+  template sh::Coeffs<N> spherical_light_radiance<N>(const glm::vec3&, float);                  \
+  template sh::Coeffs<N> exact_diffuse_transfer<N>(const sh::Coeffs<N + 1>&, const glm::vec3&); \
+  template int exact_transfer_term_count<N>();
 PENUMBRA_TRANSFER_INSTANTIATE(2)
 PENUMBRA_TRANSFER_INSTANTIATE(3)
 PENUMBRA_TRANSFER_INSTANTIATE(4)

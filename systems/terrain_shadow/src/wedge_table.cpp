@@ -20,10 +20,10 @@
 #include "penumbra/sh/projection.h"
 
 #include "lanes.h"
+#include "sh_any.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
-
 
 // Quadrature orders of wedge_exact: the integrands are trigonometric polynomials of degree
 // <= N + 1 in the elevation and analytic in phi; 16 points reach float precision (checked
@@ -75,9 +75,15 @@ void integrate_piece(double phi0, double phi1, double w_left, double w_right, do
     for (std::size_t e = 0; e < re.x.size(); ++e) {
       const double elev = e0 + half * (re.x[e] + 1);
       const double ce = std::cos(elev);
-      const glm::vec3 dir(static_cast<float>(cp * ce), static_cast<float>(sp * ce),
-                          static_cast<float>(std::sin(elev)));
-      sh::eval_basis<N>(dir, y);
+      if constexpr (N <= sh::kMaxBands) {
+        const glm::vec3 dir(static_cast<float>(cp * ce), static_cast<float>(sp * ce),
+                            static_cast<float>(std::sin(elev)));
+        sh::eval_basis<N>(dir, y);
+      } else {  // one band above the library's (the exact transfer's table at 6 bands)
+        double yd[N * N];
+        detail::eval_basis_any(N, cp * ce, sp * ce, std::sin(elev), yd);
+        for (int i = 0; i < N * N; ++i) y[i] = static_cast<float>(yd[i]);
+      }
       const double weight = wa * half * re.w[e] * ce;  // d omega = cos(elev) d elev d phi
       for (int i = 0; i < N * N; ++i) acc[i] += weight * y[i];
     }
@@ -312,6 +318,7 @@ PENUMBRA_WEDGE_INSTANTIATE(3)
 PENUMBRA_WEDGE_INSTANTIATE(4)
 PENUMBRA_WEDGE_INSTANTIATE(5)
 PENUMBRA_WEDGE_INSTANTIATE(6)
+PENUMBRA_WEDGE_INSTANTIATE(7)  // the exact transfer at 6 bands (transfer.h)
 #undef PENUMBRA_WEDGE_INSTANTIATE
 
 }  // namespace penumbra::terrain_shadow

@@ -5,8 +5,11 @@
 //
 // Pipeline per texel (every height sample is a receiver, its normal from central differences
 // like reference::height_field_receivers):
-//   environment:  horizons (clamped at 0) -> hemisphere wedge table -> V (eq. 4.19)
-//                 -> transfer T = V * C(n) (eq. 4.21), stored;  E_env = L_env . T
+//   environment:  horizons (clamped at 0) -> transfer, stored;  E_env = L_env . T. By
+//                 config().transfer: kExact (default, ours): horizons raised to the tangent
+//                 plane -> wedge table at N + 1 bands -> V -> T = proj_N(V max(0, n.w))
+//                 (transfer.h); kTruncatedProduct (the thesis): wedge table at N bands -> V
+//                 (eq. 4.19) -> T = V * C(n) truncated to N bands (eq. 4.21)
 //   each light, light_shading = kCapHorizon (default; ours, cap_transfer.h): the horizon
 //                 towards the light only, limited to its plane distance (a radial line sweep
 //                 from the light's foot: exact; three ray_horizon directions across wide caps
@@ -30,6 +33,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -37,12 +41,13 @@
 
 #include "penumbra/data/height_field.h"
 #include "penumbra/sh/basis.h"
+#include "penumbra/systems/terrain_shadow/cap_transfer.h"
 #include "penumbra/systems/terrain_shadow/height_pyramid.h"
 #include "penumbra/systems/terrain_shadow/horizon.h"
 #include "penumbra/systems/terrain_shadow/horizon_march.h"
-#include "penumbra/systems/terrain_shadow/cap_transfer.h"
 #include "penumbra/systems/terrain_shadow/light_horizon_march.h"
 #include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
+#include "penumbra/systems/terrain_shadow/transfer.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
 
 namespace penumbra::terrain_shadow {
@@ -80,12 +85,21 @@ enum class LightShading {
 };
 const char* to_string(LightShading s);
 
+// The environment's transfer (TerrainShadowConfig::transfer). Errors by band count and why:
+// docs/terrain_shadow.md ("SH bands").
+enum class TransferMethod {
+  kExact,             // proj_N(V max(0, n.w)) from V at N + 1 bands (ours; transfer.h)
+  kTruncatedProduct,  // [Meier13] eq. 4.21: V_N * C_N truncated to N bands
+};
+const char* to_string(TransferMethod t);
+
 struct TerrainShadowConfig {
-  HorizonMethod method = HorizonMethod::kSweep;  // environment horizons
-  int azimuths = 32;                             // n_phi for the environment
+  HorizonMethod method = HorizonMethod::kSweep;      // environment horizons
+  int azimuths = 32;                                 // n_phi for the environment
+  TransferMethod transfer = TransferMethod::kExact;  // the environment's transfer
   LightShading light_shading = LightShading::kCapHorizon;
   LightWedgeHorizons light_method = LightWedgeHorizons::kMarch;  // kShWedges: horizons of lights
-  int light_azimuths = 16;  // kShWedges: n_phi of the sphere wedge table
+  int light_azimuths = 16;                             // kShWedges: n_phi of the sphere wedge table
   CapHorizons cap_method = CapHorizons::kRadialSweep;  // kCapHorizon: horizon towards a light
   int cap_horizons = 3;  // kCapHorizon: horizon directions across a cap, 1..kMaxCapHorizons
   // kCapHorizon with kRadialSweep: a cap with rho = radius / distance >= cap_wide (near the
@@ -164,7 +178,9 @@ class TerrainShadowing {
                      float reach, std::span<const TexelRect> regions);
 
   TerrainShadowConfig config_;
-  WedgeTable<N> hemisphere_;
+  std::optional<WedgeTable<N>> hemisphere_;            // kTruncatedProduct
+  std::optional<WedgeTable<N + 1>> hemisphere_exact_;  // kExact
+  AzimuthFrame frame_;                                 // kExact: the environment's azimuths
   WedgeTable<N> sphere_;
   std::shared_ptr<const data::HeightField> field_;
   float height_scale_ = 1;
