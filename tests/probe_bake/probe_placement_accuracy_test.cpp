@@ -14,6 +14,7 @@
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
 #include "penumbra/systems/probe_cloud/probe_tet_walk.h"
+#include "room_accuracy_points.h"
 
 namespace penumbra::probe_bake {
 namespace {
@@ -21,49 +22,9 @@ namespace {
 const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
 const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
 
-const glm::vec3 kNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-
-struct PointSet {
-  std::vector<glm::vec3> points, ref;  // ref: 6 per point (kNormals)
-};
-
-// Reference irradiance (environment + lights + one bounce) at the set's points, 6 normals each.
-void reference_values(const reference::Scene& traced, PointSet& set) {
-  std::vector<reference::Receiver> rec;
-  for (const glm::vec3& p : set.points)
-    for (const glm::vec3& n : kNormals) rec.push_back({p, n});
-  reference::LightOptions lo;
-  lo.samples = 256;
-  reference::BounceOptions bo;
-  bo.samples = 1024;
-  reference::IrradianceOptions eo;
-  eo.samples = 256;
-  const auto env = reference::environment_irradiance(traced, rec, eo);  // 0 without a map
-  const auto l = reference::light_irradiance(traced, rec, lo);
-  const auto b = reference::indirect_irradiance(traced, rec, bo);
-  for (std::size_t i = 0; i < rec.size(); ++i)
-    set.ref.push_back(reference::combine(reference::combine(env[i], l[i]), b[i]).mean);
-}
-
-// Relative RMS error of the cloud's irradiance over a point set (6 normals, 3 channels).
-double set_error(const data::ProbeCloud& cloud, const PointSet& ps) {
-  const probe_cloud::ProbeTetWalk walk(std::make_shared<const data::ProbeCloud>(cloud));
-  double num = 0, den = 0;
-  for (std::size_t i = 0; i < ps.points.size(); ++i) {
-    const probe_cloud::ProbeSh e = walk.interpolate(walk.locate(ps.points[i], -1));
-    for (int k = 0; k < 6; ++k) {
-      const auto y = sh::eval_basis<probe_cloud::kProbeShBands>(kNormals[k]);
-      for (int c = 0; c < 3; ++c) {
-        double v = 0;
-        for (std::size_t j = 0; j < y.size(); ++j) v += e[c][j] * y[j];
-        const double r = ps.ref[i * 6 + k][c];
-        num += (v - r) * (v - r);
-        den += r * r;
-      }
-    }
-  }
-  return std::sqrt(num / den);
-}
+using accuracy::PointSet;
+using accuracy::reference_values;
+using accuracy::set_error;
 
 // The room, its reference scene and three point sets with reference irradiance, made once.
 class RoomAccuracy : public ::testing::Test {
@@ -71,25 +32,9 @@ class RoomAccuracy : public ::testing::Test {
   static void SetUpTestSuite() {
     scene_ = std::make_unique<BakeScene>(load_bake_scene(kRoot / "scenes" / "room.json", kData));
     traced_ = std::make_unique<reference::Scene>(scene_->desc);
-    const BakeScene& s = *scene_;
-    std::mt19937 rng(5);  // the same points as ProbeBakeAccuracy.RoomErrorVersusSpacing
-    std::uniform_real_distribution<float> ux(-4.6f, 4.6f), uy(-3.6f, 3.6f), uz(0.3f, 3.7f);
-    auto& free = sets_[0].points;
-    while (free.size() < 120) {
-      const glm::vec3 p(ux(rng), uy(rng), uz(rng));
-      bool clear = !s.inside(p);
-      for (float d : {0.1f, -0.1f})
-        for (int k = 0; k < 3; ++k) {
-          glm::vec3 q = p;
-          q[k] += d;
-          clear = clear && !s.inside(q);
-        }
-      if (clear) free.push_back(p);
-    }
-    std::uniform_real_distribution<float> lx(0.25f, 1.0f), ly(-3.6f, 1.5f);
-    while (sets_[1].points.size() < 60) sets_[1].points.emplace_back(lx(rng), ly(rng), uz(rng));
-    while (sets_[2].points.size() < 60) sets_[2].points.emplace_back(-lx(rng), ly(rng), uz(rng));
-    for (PointSet& set : sets_) reference_values(*traced_, set);
+    // The same points as ProbeBakeAccuracy.RoomErrorVersusSpacing (room_accuracy_points.h).
+    const auto sets = accuracy::room_point_sets(*scene_, *traced_);
+    for (int i = 0; i < 3; ++i) sets_[i] = sets[static_cast<std::size_t>(i)];
   }
   static void TearDownTestSuite() {
     traced_.reset();
