@@ -7,38 +7,60 @@
 //    uniform on the sphere), on 1 and 2 threads; the summary divides the bake's rays/s by it;
 //  - placement per method on the room (grid_points; spawn and merge, gradient ascent with small
 //    caps, timed as the bake's own placement_seconds) and edge rays alone (one round of
-//    edge_ray_points over the 1 m and 1.5 m grids).
+//    edge_ray_points over the 1 m and 1.5 m grids);
+//  - the placement sweep, speed against accuracy ([Sukys14] sec. 3.1; the cases of the test
+//    RoomAccuracy.ErrorVersusProbeCount, probe_bake_records.h): the room baked per method (grid
+//    2-0.75 m, spawn-merge from 2 and 1 m, gradient from 1.5-0.75 m; 512 samples, validity on,
+//    edge rays off), timed (bake wall time, placement time), its interpolated irradiance against
+//    the reference integrator at the accuracy tests' points (tests/probe_bake/
+//    room_accuracy_points.h; reference values computed once per run): rel. RMS error in free
+//    space, the dark-side leak metric, the lit side, probes.
+// --records_out writes one JSON record per case and per sweep point, --chart_out the sweep's
+// chart (bake time, log, against rel. RMS error; probe_bake_records.cpp), both atomically.
 //
-//   build/release/tests/bench/bench_probe_bake --benchmark_out=build/bench/probe_bake.json
+//   build/release/tests/bench/bench_probe_bake --benchmark_out=build/bench/probe_bake_gbench.json
 //       --benchmark_out_format=json --summary_out=build/bench/probe_bake_summary.json
+//       --records_out=build/bench/probe_bake.json --chart_out=build/bench/probe_bake.svg
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 #include <map>
 #include <memory>
 #include <optional>
 #include <random>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "bench_json.h"
 #include "bench_registry.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/systems/probe_bake/bake_scene.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
 #include "penumbra/systems/probe_bake/probe_edge_rays.h"
 #include "penumbra/systems/probe_bake/probe_placement.h"
+#include "probe_bake_records.h"
+#include "room_accuracy_points.h"
 
 namespace pb = penumbra::bench;
 namespace bake = penumbra::probe_bake;
 namespace ref = penumbra::reference;
+namespace pbr = penumbra::bench::probe_bake;
+namespace acc = penumbra::probe_bake::accuracy;
 
 namespace {
 
@@ -210,6 +232,57 @@ void BM_EdgeRays(benchmark::State& state) {
       static_cast<double>(state.iterations() * stats.edges * 2), benchmark::Counter::kIsRate);
 }
 
+// ---------------------------------------------------------------------------------------------
+// The placement sweep: the room per method, against the reference at the accuracy tests' points.
+
+// The three point sets of the room with their reference values, computed once per run (the
+// reference integrator's bounce at 1,024 samples is the expensive part).
+double g_reference_seconds = -1;
+const std::array<acc::PointSet, 3>& room_reference() {
+  static const std::array<acc::PointSet, 3> sets = [] {
+    const LoadedScene& s = scene("room");
+    const auto t0 = std::chrono::steady_clock::now();
+    auto out = acc::room_point_sets(s.scene, *s.traced);
+    g_reference_seconds = seconds_since(t0);
+    return out;
+  }();
+  return sets;
+}
+
+void BM_PlacementSweep(benchmark::State& state, pbr::SweepCase c) {
+  const LoadedScene& s = scene("room");
+  const auto& sets = room_reference();
+  bake::BakeSettings settings;  // as RoomAccuracy.ErrorVersusProbeCount
+  settings.samples = pbr::kSweepSamples;
+  settings.spacing = c.spacing;
+  settings.validity = true;
+  settings.edge_rays.enabled = false;
+  if (c.method == "spawn-merge") {
+    settings.placement = bake::PlacementMethod::kSpawnMerge;
+    settings.spawn_merge.spawn_contrast = c.spawn;
+  } else if (c.method == "gradient") {
+    settings.placement = bake::PlacementMethod::kGradient;
+  }
+  penumbra::data::ProbeCloud cloud;
+  bake::BakeReport report;
+  for (auto _ : state) {
+    report = bake::BakeReport{};
+    const auto t0 = std::chrono::steady_clock::now();
+    cloud = bake::bake_probe_cloud(s.scene, *s.traced, settings, &report);
+    state.SetIterationTime(seconds_since(t0));
+  }
+  if (!report.valid_cloud) state.SkipWithError("the baked cloud is not valid");
+  state.counters["probes"] = static_cast<double>(cloud.probe_count());
+  state.counters["placed"] = static_cast<double>(report.placed);
+  state.counters["placement_ms"] = report.placement_seconds * 1e3;
+  state.counters["rays"] = static_cast<double>(report.rays);
+  state.counters["placement_rays"] = static_cast<double>(report.placement_rays);
+  state.counters["rel_rms_error"] = acc::set_error(cloud, sets[acc::kFree]);
+  state.counters["dark_side"] = acc::set_error(cloud, sets[acc::kDarkSide]);
+  state.counters["lit_side"] = acc::set_error(cloud, sets[acc::kLitSide]);
+  if (c.method != "grid") state.counters["iterations"] = report.adaptive.iterations;
+}
+
 void register_benchmarks() {
   using Clock = pb::Timing::Clock;
   const pb::Timing bake_timing{
@@ -230,6 +303,12 @@ void register_benchmarks() {
   pb::add("BM_EdgeRays", {.clock = Clock::kWall, .unit = benchmark::kMillisecond}, BM_EdgeRays)
       ->Arg(150)
       ->Arg(100);
+  const pb::Timing sweep_timing{.clock = Clock::kManual,
+                                .unit = benchmark::kMillisecond,
+                                .iterations = 1,
+                                .repetitions = pbr::kSweepRepetitions};
+  for (const pbr::SweepCase& c : pbr::sweep_cases())
+    pb::add(c.key, sweep_timing, BM_PlacementSweep, c);
 }
 
 pb::Summary summarize(const pb::Results& r) {
@@ -279,8 +358,139 @@ pb::Summary summarize(const pb::Results& r) {
   return s;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Records (--records_out) and the chart (--chart_out): one record per case and sweep point.
+
+struct Outputs {
+  std::string records_path, chart_path;
+};
+
+std::string json_params(const std::vector<std::pair<std::string, std::string>>& kv) {
+  std::string o = "{";
+  for (std::size_t i = 0; i < kv.size(); ++i)
+    o += (i ? ", " : "") + penumbra::bench_json::jstr(kv[i].first) + ": " + kv[i].second;
+  return o + "}";
+}
+
+std::vector<pbr::Record> collect(const pb::Results& r) {
+  using penumbra::bench_json::compact;
+  using penumbra::bench_json::jstr;
+  std::vector<pbr::Record> out;
+  auto add = [&](const std::string& key, const std::string& kind, const std::string& scene_name,
+                 const std::string& method, std::string params) -> pbr::Record* {
+    const auto m = r.get(key);
+    if (!m) return nullptr;
+    pbr::Record rec;
+    rec.key = key;
+    rec.kind = kind;
+    rec.scene = scene_name;
+    rec.method = method;
+    rec.params_json = std::move(params);
+    rec.ms = m->real_ns * 1e-6;
+    rec.counters = m->counters;
+    if (auto it = m->counters.find("probes"); it != m->counters.end()) rec.probes = it->second;
+    if (auto it = m->counters.find("rays_per_s"); it != m->counters.end())
+      rec.rays_per_s = it->second;
+    out.push_back(rec);
+    return &out.back();
+  };
+  for (const std::string name : {"room", "valley"}) {
+    add("BM_Bake/" + name, "bake", name, "grid",
+        json_params({{"spacing", compact(scene(name).scene.volume.spacing)},
+                     {"samples", "1024"},
+                     {"validity", "true"}}));
+    for (const char* method : {"occluded", "first_hit"})
+      for (int threads : {1, 2})
+        add(std::string(method[0] == 'o' ? "BM_RaysOccluded/" : "BM_RaysFirstHit/") + name +
+                "/threads:" + std::to_string(threads),
+            "floor", name, method,
+            json_params({{"rays", std::to_string(kRays)}, {"threads", std::to_string(threads)}}));
+  }
+  for (int cm : {100, 25})
+    add("BM_PlaceGrid/" + std::to_string(cm), "placement", "room", "grid",
+        json_params({{"spacing", compact(cm / 100.0)}}));
+  for (const auto& [key, method] :
+       {std::pair<std::string, std::string>{"BM_PlaceSpawnMerge", "spawn-merge"},
+        {"BM_PlaceGradient", "gradient"}})
+    if (pbr::Record* rec =
+            add(key, "placement", "room", method,
+                json_params({{"spacing", "1.5"},
+                             {"samples", "256"},
+                             {"max_iterations", method == "gradient" ? "3" : "2"},
+                             {"max_probes", method == "gradient" ? "null" : "500"}}))) {
+      rec->placement_ms = rec->ms;
+      if (auto it = rec->counters.find("placed"); it != rec->counters.end())
+        rec->probes = it->second;
+    }
+  for (int cm : {150, 100})
+    add("BM_EdgeRays/" + std::to_string(cm), "edge_rays", "room", "edge_rays",
+        json_params({{"spacing", compact(cm / 100.0)}, {"rounds", "1"}}));
+  for (const pbr::SweepCase& c : pbr::sweep_cases()) {
+    pbr::Record* rec = add(c.key, "sweep", "room", c.method,
+                           json_params({{"spacing", compact(c.spacing)},
+                                        {"spawn_contrast", c.spawn > 0 ? compact(c.spawn) : "null"},
+                                        {"samples", std::to_string(pbr::kSweepSamples)},
+                                        {"validity", "true"},
+                                        {"edge_rays", "false"}}));
+    if (!rec) continue;
+    const auto counter = [&](const char* name) -> std::optional<double> {
+      auto it = rec->counters.find(name);
+      return it == rec->counters.end() ? std::nullopt : std::optional<double>(it->second);
+    };
+    if (c.method != "grid") rec->placement_ms = counter("placement_ms");
+    rec->rel_rms_error = counter("rel_rms_error");
+    rec->dark_side = counter("dark_side");
+    rec->lit_side = counter("lit_side");
+  }
+  pbr::mark_pareto_front(out);
+  return out;
+}
+
+void write_outputs(const pb::Results& r, const Outputs& o) {
+  const std::vector<pbr::Record> records = collect(r);
+  if (g_reference_seconds >= 0) {  // the sweep ran: its table on stdout
+    std::printf(
+        "\nplacement sweep (room, %d samples, validity on, edge rays off; reference %.1f s):\n",
+        pbr::kSweepSamples, g_reference_seconds);
+    std::printf("%-44s %7s %8s %8s %8s %10s %9s\n", "case", "probes", "rel_rms", "dark", "lit",
+                "place_ms", "bake_ms");
+    for (const pbr::Record& rec : records)
+      if (rec.kind == "sweep")
+        std::printf("%-44s %7.0f %8.3f %8.3f %8.3f %10.1f %9.1f%s\n", rec.key.c_str(),
+                    rec.probes.value_or(NAN), rec.rel_rms_error.value_or(NAN),
+                    rec.dark_side.value_or(NAN), rec.lit_side.value_or(NAN),
+                    rec.placement_ms.value_or(NAN), rec.ms.value_or(NAN),
+                    rec.pareto_front ? "  (front)" : "");
+  }
+  pbr::RunInfo info;
+  info.cpus = static_cast<int>(std::thread::hardware_concurrency());
+  double load[3];
+  const int n = getloadavg(load, 3);
+  info.load_avg_at_end.assign(load, load + std::max(n, 0));
+  if (g_reference_seconds >= 0) info.reference_seconds = g_reference_seconds;
+  if (!o.records_path.empty()) {
+    if (pb::write_atomically(o.records_path, pbr::records_json(records, info)))
+      std::cout << "records written to " << o.records_path << "\n";
+    else
+      std::cerr << "bench_probe_bake: cannot write " << o.records_path << "\n";
+  }
+  if (!o.chart_path.empty()) {
+    if (pb::write_atomically(o.chart_path, pbr::chart(records)))
+      std::cout << "chart written to " << o.chart_path << "\n";
+    else
+      std::cerr << "bench_probe_bake: cannot write " << o.chart_path << "\n";
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  return pb::run_group(argc, argv, "probe_bake", register_benchmarks, summarize);
+  Outputs out;
+  out.records_path = pb::take_flag(argc, argv, "records_out");
+  out.chart_path = pb::take_flag(argc, argv, "chart_out");
+  return pb::run_group(argc, argv, "probe_bake", register_benchmarks, [&](const pb::Results& r) {
+    pb::Summary s = summarize(r);
+    write_outputs(r, out);
+    return s;
+  });
 }
