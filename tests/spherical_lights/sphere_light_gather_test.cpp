@@ -1,6 +1,7 @@
 #include "penumbra/systems/spherical_lights/sphere_light_gather.h"
 
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -219,22 +220,28 @@ double relative_rms(const std::vector<glm::vec3>& a, const std::vector<glm::vec3
 
 TEST(SphereLightGather, ClusteredShadingStaysCloseToPerReceiverAndSkipsFarWork) {
   const ClusterScene scene = cluster_scene();
-  for (int mode = 0; mode < 4; ++mode) {
+  for (int mode = 0; mode < 8; ++mode) {
     SphereLightSettings st = settings(mode % 2 ? SlBlocking::kPerObject : SlBlocking::kPerSphere);
     st.blocker.min_sin = 0.05f;
     // kClip keeps SLs that cross a receiver's plane whole, so they are never far: more of them
     // go through the per-receiver path (this scene's SLs mostly touch the ground).
-    st.horizon = mode < 2 ? EmitterHorizon::kShrink : EmitterHorizon::kClip;
+    st.horizon = mode % 4 < 2 ? EmitterHorizon::kShrink : EmitterHorizon::kClip;
     SphereLightGather<4> g(st);
     g.set_lights(scene.lights);
     std::vector<glm::vec3> exact(scene.points.size()), clustered(scene.points.size());
     SphereLightGather<4>::Counts per_receiver, by_cluster;
     for (std::size_t i = 0; i < scene.points.size(); ++i)
       exact[i] = g.irradiance(scene.points[i], scene.normals[i], &per_receiver);
-    const SlReceiverClusters c = cluster_receivers(scene.points, scene.normals);
+    SlClusterSettings cs;
+    cs.hierarchy = mode < 4 ? SlHierarchy::kLeaves : SlHierarchy::kParents;
+    const SlReceiverClusters c = cluster_receivers(scene.points, scene.normals, cs);
     EXPECT_GT(c.size(), 100u);
     g.shade(c, clustered, &by_cluster);
-    EXPECT_LT(relative_rms(clustered, exact), 0.03);  // measured 2.2% at far_ratio 0.5
+    const double e = relative_rms(clustered, exact);
+    std::printf("mode %d: rel RMS vs per receiver %.4f, far terms %zu (parents %zu)\n", mode, e,
+                by_cluster.far, by_cluster.parents);
+    // Measured at far_ratio 0.5: leaves 2.2%, parents 3.0%.
+    EXPECT_LT(e, mode < 4 ? 0.03 : 0.04);
     EXPECT_GT(by_cluster.far, 0u);
     if (st.horizon == EmitterHorizon::kShrink) {
       EXPECT_LT(by_cluster.views, per_receiver.views / 2);
@@ -245,6 +252,39 @@ TEST(SphereLightGather, ClusteredShadingStaysCloseToPerReceiverAndSkipsFarWork) 
     g.shade(c, parallel);  // the same without counts, in parallel
     for (std::size_t i = 0; i < parallel.size(); ++i) EXPECT_EQ(parallel[i], clustered[i]);
   }
+}
+
+// [Guerrero08] eq. 25-26: an object of six SLs 20 m from a ground patch. With kParents each
+// cluster shades one parent term for the object instead of six, and the result stays within
+// 0.5% of the leaves' (measured 0.07%): the parent's cap integral varies across a cluster as its
+// children's do when all are far.
+TEST(SphereLightGather, AParentStandsForAFarObjectsSls) {
+  std::vector<SphereLightSource<4>> lights;
+  for (int i = 0; i < 6; ++i)
+    lights.push_back(uniform_light(glm::vec3(20 + 0.6f * (i % 3), 0.7f * (i / 3), 1.0f + 0.3f * i),
+                                   0.5f, 1.0f + 0.2f * i, 0));
+  std::vector<glm::vec3> points, normals;
+  for (int j = 0; j < 40; ++j)
+    for (int i = 0; i < 40; ++i) {
+      points.push_back(glm::vec3(-5 + 10 * (i + 0.5f) / 40, -5 + 10 * (j + 0.5f) / 40, 0));
+      normals.push_back(glm::vec3(0, 0, 1));
+    }
+  SphereLightGather<4> g(settings());
+  g.set_lights(lights);
+  std::vector<glm::vec3> leaves(points.size()), parents(points.size());
+  SphereLightGather<4>::Counts leaf_counts, parent_counts;
+  SlClusterSettings cs;
+  cs.hierarchy = SlHierarchy::kLeaves;
+  g.shade(cluster_receivers(points, normals, cs), leaves, &leaf_counts);
+  cs.hierarchy = SlHierarchy::kParents;
+  g.shade(cluster_receivers(points, normals, cs), parents, &parent_counts);
+  EXPECT_EQ(leaf_counts.far, 6 * points.size());
+  EXPECT_EQ(parent_counts.far, points.size());
+  EXPECT_EQ(parent_counts.parents, points.size());
+  const double e = relative_rms(parents, leaves);
+  std::printf("parents against leaves: rel RMS %.5f\n", e);
+  EXPECT_LT(e, 0.005);
+  for (const glm::vec3& v : parents) EXPECT_GT(v.x, 0.0f);
 }
 
 TEST(SphereLightGather, NonPlanarClustersShadeEveryReceiverExactly) {

@@ -554,6 +554,7 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
     glm::vec3 centre;
     float r2;
     glm::vec3 ratio;  // L~ V~ / C x the plane rule's weight
+    std::uint32_t object;
   };
   thread_local std::vector<Far> far_list;
   thread_local std::vector<std::uint8_t> consider;
@@ -586,12 +587,69 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
     if (!emits_[i]) continue;  // a blocker only
     if (shrunk[i].far && ratio[i].x >= 0) {
       far_list.push_back({shrunk[i].centre, shrunk[i].radius * shrunk[i].radius,
-                          shrunk[i].plane_weight * ratio[i]});
+                          shrunk[i].plane_weight * ratio[i], l.object});
     } else {
       far[i] = 0;  // not seen at the centre (min_sin) or not far: exact at every receiver
       any_near = true;
       near_key_hi = std::max(near_key_hi, key + radius);
     }
+  }
+  // The cap integral of a far term at (p, n): pi sin^2 cos beta x the min_sin fade, as the
+  // lanes below compute it.
+  constexpr float kPi = 3.14159265358979f;
+  const auto far_cap = [min_sin](const glm::vec3& c, float r2, const glm::vec3& p,
+                                 const glm::vec3& n) {
+    const glm::vec3 t = c - p;
+    const float inv_d = 1.0f / std::sqrt(glm::dot(t, t));
+    const float s2 = r2 * inv_d * inv_d;
+    float v = kPi * s2 * glm::dot(n, t) * inv_d;
+    if (min_sin > 0) {
+      const float f = std::clamp((std::sqrt(s2) - min_sin) / min_sin, 0.0f, 1.0f);
+      v *= f * f * (3 - 2 * f);
+    }
+    return v;
+  };
+  std::size_t parents = 0;
+  if (clusters.settings.hierarchy == SlHierarchy::kParents && far_list.size() > 1) {
+    // [Guerrero08] eq. 25-26 (header): an object's far SLs become their bounding parent when it
+    // is far and wholly above every receiver's plane; t = sum of the children's L~ V~ over the
+    // parent's cap integral, both at the centre.
+    std::stable_sort(far_list.begin(), far_list.end(),
+                     [](const Far& a, const Far& b) { return a.object < b.object; });
+    std::size_t kept = 0;
+    for (std::size_t a = 0; a < far_list.size();) {
+      std::size_t b = a + 1;
+      while (b < far_list.size() && far_list[b].object == far_list[a].object) ++b;
+      bool merged = false;
+      if (b - a > 1) {
+        glm::vec3 c(0.0f);
+        float weight = 0;
+        for (std::size_t i = a; i < b; ++i)
+          c += far_list[i].r2 * far_list[i].centre, weight += far_list[i].r2;
+        c /= weight;
+        float r = 0;
+        for (std::size_t i = a; i < b; ++i)
+          r = std::max(r, glm::length(far_list[i].centre - c) + std::sqrt(far_list[i].r2));
+        const float d = glm::length(c - centre);
+        const float vary = level.thickness[k] + level.spread[k] * (d + radius);
+        const bool far_parent = d > r && radius <= clusters.settings.far_ratio * (d - r) &&
+                                glm::dot(normal, c - centre) - r >= vary;
+        const float parent_cap = far_parent ? far_cap(c, r * r, centre, normal) : 0.0f;
+        if (parent_cap > 0) {
+          glm::vec3 children(0.0f);
+          for (std::size_t i = a; i < b; ++i)
+            children +=
+                far_cap(far_list[i].centre, far_list[i].r2, centre, normal) * far_list[i].ratio;
+          far_list[kept++] = {c, r * r, children / parent_cap, far_list[a].object};
+          ++parents;
+          merged = true;
+        }
+      }
+      if (!merged)
+        for (std::size_t i = a; i < b; ++i) far_list[kept++] = far_list[i];
+      a = b;
+    }
+    far_list.resize(kept);
   }
   // The per-receiver path needs the near emitters and what can sort in front of one of them;
   // SLs behind every near emitter at every receiver change nothing there (header: ours).
@@ -612,7 +670,6 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
   }
   // Far SLs, 8 receivers at a time: pi sin^2 cos beta (the cap wholly above the plane,
   // cap_cosine_integral's first case) x the min_sin fade x the ratio.
-  constexpr float kPi = 3.14159265358979f;
   using sh::Lanes;
   for (std::uint32_t j = 0; j < m8 && !far_list.empty(); j += sh::kLaneCount) {
     const Lanes x = sh::load_lanes(px + j), y = sh::load_lanes(py + j), z = sh::load_lanes(pz + j);
@@ -640,7 +697,7 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
       e += evaluate(clusters.points[begin + j], clusters.normals[begin + j], counts, far.data(),
                     nullptr, min_sin, consider.data());
     }
-    if (counts) counts->far += far_list.size();
+    if (counts) counts->far += far_list.size(), counts->parents += parents;
     out[clusters.order[begin + j]] = e;
   }
 }

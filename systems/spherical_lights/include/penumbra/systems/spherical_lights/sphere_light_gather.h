@@ -109,6 +109,16 @@ struct SphereLightSettings {
   bool operator==(const SphereLightSettings&) const = default;
 };
 
+// Far SLs of one object in a cluster ([Guerrero08] sec. 7.3, eq. 25-26):
+//  - kLeaves: each far SL is its own term at every receiver (its ratio at the cluster's centre
+//    times the receiver's own cap integral);
+//  - kParents: the far SLs of one object are replaced by their parent, the sphere bounding them,
+//    when the parent is itself far and wholly above every receiver's plane; its reflection ratio
+//    t = sum_j L~_j V~_j / C_parent at the cluster's centre (eq. 25, with the parent's unblocked
+//    cap integral C as its diffuse reflection value) scales the parent's cap integral at each
+//    receiver (eq. 26): one term per object instead of one per SL, exact at the centre.
+enum class SlHierarchy { kLeaves, kParents };
+
 // Receivers grouped once for SphereLightGather::shade(clusters) (header: ours, after
 // [Guerrero08] sec. 7.3): binned by a cell of `cell` metres and the normal's dominant axis and
 // sign, at most max_receivers each. A cluster is planar when its points lie in one plane and its
@@ -124,6 +134,7 @@ struct SlClusterSettings {
   // (docs/spherical_lights.md): the cheaper setting costs nothing the method's error shows.
   float far_ratio = 0.5f;
   float normal_cos = 0.99999f;  // planar: every normal within this cosine of the mean
+  SlHierarchy hierarchy = SlHierarchy::kParents;
 };
 
 // One level of clusters: per cluster its receivers [first[k], first[k + 1]) of `order` and its
@@ -174,7 +185,8 @@ class SphereLightGather {
     std::size_t lights = 0;        // SLs looked at (plane rule or bound)
     std::size_t pairs = 0;         // (emitter, SL in front) overlap tests
     std::size_t logs = 0;          // log-SH caps added (add_log_visibility)
-    std::size_t far = 0;           // far SLs shaded by their cluster's ratio (shade(clusters))
+    std::size_t far = 0;           // far terms shaded by their cluster's ratio (shade(clusters))
+    std::size_t parents = 0;       // of those, parents standing for several far SLs (kParents)
   };
   // Irradiance (W/m^2 per channel) at p with unit normal n from every SL; `counts` gains the cost.
   glm::vec3 irradiance(const glm::vec3& p, const glm::vec3& n, Counts* counts = nullptr) const;
