@@ -19,6 +19,9 @@ The spherical_lights group adds, from its records (build/bench/spherical_lights.
 every frame (ms, floor, goal, counted work per receiver, error against the reference and, for
 clusters, against per receiver); with <!-- bench-table:spherical_lights-brief:begin/end -->
 markers, a short table of the goal frames.
+The probe_bake group's text is its own tables, from the summary and its records
+(build/bench/probe_bake.json): the bakes, the ray-rate floor, placement per method and the
+placement sweep (speed against accuracy in the room), with the load average at start and end.
 """
 import json
 import sys
@@ -33,6 +36,8 @@ def fmt(v):
 
 
 def table(r):
+    if r["group"] == "probe_bake":
+        return probe_bake_table(r, probe_bake_records())
     load = r.get("load_avg") or [None]
     lines = [
         f"Measured {r['date']} on {r['num_cpus']} CPUs, load average {load[0]:.2f} at the start "
@@ -371,6 +376,139 @@ def probe_brief(summary, rec):
             f"\nBest trade-off of the sweep: {best['method']}, {best['bands']} bands: "
             f"{fmt(best['ms'])} ms per {fmt(best['size'])}-entity frame, irradiance rel RMS "
             f"{pct(best['rel_rms_error'])} against the reference.")
+    return "\n".join(lines)
+
+
+def probe_bake_records(path="build/bench/probe_bake.json"):
+    with open(path) as f:
+        return json.load(f)
+
+
+def mega(v):
+    return "-" if v is None else f"{v / 1e6:.3g} M"
+
+
+def count(v):
+    return "-" if v is None else f"{v:,.0f}"
+
+
+def metres(v):
+    return "-" if v is None else f"{v:g} m"
+
+
+def loads(values):
+    return " / ".join(f"{x:.2f}" for x in values if x is not None) or "-"
+
+
+def probe_bake_table(summary, rec):
+    """The probe_bake group (docs/probe_bake.md, "Benchmarks"): the bakes, the floor (bare ray
+    rates and the summary's ratios), placement per method, and the placement sweep."""
+    records = rec["records"]
+    by = {x["case"]: x for x in records}
+
+    def c(case, name):
+        x = by.get(case)
+        return None if x is None else x["counters"].get(name)
+
+    lines = [
+        f"Measured {summary['date']} on {summary['num_cpus']} CPUs, load average "
+        f"{loads(summary.get('load_avg') or [])} at the start and {loads(rec.get('load_avg_at_end') or [])} "
+        "at the end (1, 5, 15 min, as `uptime` prints them; `./penumbra bench probe_bake`, "
+        "build/bench/probe_bake_summary.json and build/bench/probe_bake.json).",
+        "",
+        "| case | probes | rays | time | per probe | per ray | rays/s |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for x in records:
+        if x["kind"] != "bake":
+            continue
+        k = x["case"]
+        lines.append(
+            f"| bake {x['scene']}, {metres(x['params'].get('spacing'))} | {count(x['probes'])} "
+            f"({count(c(k, 'placed'))} placed) | "
+            f"{mega(c(k, 'rays'))} ({fmt(c(k, 'rays_per_probe'))} / probe) | {fmt(x['ms'])} ms | "
+            f"{fmt(c(k, 'us_per_probe'))} us | {fmt(c(k, 'ns_per_ray'))} ns | "
+            f"{mega(x['rays_per_s'])} (capture {mega(c(k, 'capture_rays_per_s'))}) |")
+
+    scenes = [x["scene"] for x in records if x["kind"] == "bake"]
+    cols = [(s, t) for s in scenes for t in (1, 2)]
+    lines += [
+        "",
+        "| floor (random rays) | " + " | ".join(f"{s}, {t} thread{'s' if t > 1 else ''}" for s, t in cols)
+        + " |",
+        "| --- |" + " --- |" * len(cols),
+    ]
+    floor_key = {"occluded": "BM_RaysOccluded", "first_hit": "BM_RaysFirstHit"}
+    for method, prefix in floor_key.items():
+        cells = [mega(by.get(f"{prefix}/{s}/threads:{t}", {}).get("rays_per_s")) + "/s" for s, t in cols]
+        lines.append(f"| `{method}` | " + " | ".join(cells) + " |")
+    rows = {row["name"]: row for row in summary["rows"]}
+    for label, what in (("bake rays/s / `first_hit` floor", "bake rays/s vs first_hit"),
+                        ("bake capture rays/s / `occluded` floor", "bake capture rays/s vs occluded")):
+        cells = [fmt((rows.get(f"{s}: {what} threads:{t}") or {}).get("ratio")) for s, t in cols]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    hits = ", ".join(f"{s} {pct(c(f'BM_RaysFirstHit/{s}/threads:1', 'hit_fraction'))}" for s in scenes)
+    lines += ["", f"Share of the random rays that hit (`first_hit`, 1 thread): {hits}."]
+
+    lines += ["", "| placement (room) | time | counts |", "| --- | --- | --- |"]
+    g1, g2 = by.get("BM_PlaceGrid/100"), by.get("BM_PlaceGrid/25")
+    if g1 and g2:
+        lines.append(f"| grid 1 m / 0.25 m | {fmt(g1['ms'] * 1e3)} us / {fmt(g2['ms'] * 1e3)} us | "
+                     f"{count(g1['probes'])} / {count(g2['probes'])} points |")
+    for key, what in (("BM_PlaceSpawnMerge", "spawn-merge (1.5 m, cap 500, 2 iterations)"),
+                      ("BM_PlaceGradient", "gradient (1.5 m, 3 iterations)")):
+        x = by.get(key)
+        if not x:
+            continue
+        lines.append(f"| {what} | {fmt(x['ms'])} ms | {count(c(key, 'initial'))} -> "
+                     f"{count(c(key, 'placed'))} probes, {count(c(key, 'iterations'))} iterations, "
+                     f"{count(c(key, 'captured'))} captures, {mega(c(key, 'placement_rays_per_s'))} rays/s |")
+    e1, e2 = by.get("BM_EdgeRays/150"), by.get("BM_EdgeRays/100")
+    if e1 and e2:
+        k1, k2 = e1["case"], e2["case"]
+        lines.append(f"| edge rays, one round, 1.5 m / 1 m grid | {fmt(e1['ms'])} ms / {fmt(e2['ms'])} ms | "
+                     f"{count(c(k1, 'edges'))} / {count(c(k2, 'edges'))} edges, {count(c(k1, 'hits'))} / "
+                     f"{count(c(k2, 'hits'))} hits, {count(c(k1, 'added'))} / {count(c(k2, 'added'))} added |")
+
+    sweep = [x for x in records if x["kind"] == "sweep"]
+    if sweep:
+        ref = rec.get("reference_seconds")
+        p0 = sweep[0]["params"]
+        lines += [
+            "",
+            f"Placement sweep in the room (each point baked with {p0['samples']} samples, validity "
+            f"{'on' if p0['validity'] else 'off'}, edge rays {'on' if p0['edge_rays'] else 'off'}; "
+            f"bake: its wall time, median of {rec.get('sweep_repetitions', 1)}, placement: the adaptive placement in it; rel. RMS over "
+            "the 120 free-space points of the accuracy tests, dark / lit side: over the 60 points on "
+            "each side of the inner wall (dark: the leak metric); reference computed once in "
+            + ("-" if ref is None else f"{ref:.1f} s") + "; **bold**: on the Pareto front of bake time "
+            "and rel. RMS; chart build/bench/probe_bake.svg; load average at the end "
+            + loads(rec.get("load_avg_at_end") or []) + "):",
+            "",
+            "| method | start spacing | spawn threshold | probes | rel. RMS | dark side | lit side | "
+            "placement | bake |",
+            "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        ]
+        for x in sweep:
+            p = x["params"]
+            err = fmt(x["rel_rms_error"])
+            if x.get("pareto_front"):
+                err = f"**{err}**"
+            place = "-" if x.get("placement_ms") is None else f"{fmt(x['placement_ms'])} ms"
+            lines.append(f"| {x['method']} | {metres(p['spacing'])} | {fmt(p.get('spawn_contrast'))} | "
+                         f"{count(x['probes'])} | {err} | {fmt(x['dark_side'])} | {fmt(x['lit_side'])} | "
+                         f"{place} | {fmt(x['ms'])} ms |")
+        grids = [x for x in sweep if x["method"] == "grid"]
+        adaptive = [x for x in sweep if x["method"] != "grid"]
+        checks = []
+        for g in grids:
+            met = [a for a in adaptive if a["rel_rms_error"] is not None and g["rel_rms_error"] is not None
+                   and a["rel_rms_error"] <= g["rel_rms_error"] and 2 * a["probes"] <= g["probes"]]
+            checks.append(f"{metres(g['params']['spacing'])} ({count(g['probes'])} probes, "
+                          f"{fmt(g['rel_rms_error'])}): "
+                          + (", ".join(f"{a['method']} {count(a['probes'])}" for a in met) if met else "no"))
+        lines += ["", "An adaptive cloud with at most half a grid's probes and at most its error "
+                  "(issue 14's hypothesis), per grid: " + "; ".join(checks) + "."]
     return "\n".join(lines)
 
 
