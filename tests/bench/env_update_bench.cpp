@@ -23,6 +23,8 @@ ts::TerrainShadowConfig EnvConfig::config() const {
   c.azimuths = n_phi;
   c.pyramid.level_step = ls;
   c.march.level_offset = lo;
+  c.transfer =
+      transfer == "truncated" ? ts::TransferMethod::kTruncatedProduct : ts::TransferMethod::kExact;
   return c;
 }
 
@@ -30,14 +32,15 @@ std::string EnvConfig::params_text() const {
   std::string s = "n_phi:" + std::to_string(n_phi);
   if (uses_march_params())
     s += "/ls:" + std::to_string(ls) + "/lo:" + std::to_string(static_cast<int>(lo));
-  return s + "/bands:" + std::to_string(bands);
+  s += "/bands:" + std::to_string(bands);
+  return transfer == "exact" ? s : s + "/transfer:" + transfer;
 }
 
 std::string EnvConfig::params_json() const {
   std::ostringstream o;
   o << "{\"n_phi\": " << n_phi;
   if (uses_march_params()) o << ", \"ls\": " << ls << ", \"lo\": " << lo;
-  o << ", \"bands\": " << bands << "}";
+  o << ", \"bands\": " << bands << ", \"transfer\": \"" << transfer << "\"}";
   return o.str();
 }
 
@@ -54,7 +57,9 @@ double EnvConfig::ops() const {
   }
   // The pyramid is built only for the march (the default lights sweep: cap_method kRadialSweep).
   const double pyramid = method == "march" ? texels * levels * kPyramidOpsPerSample : 0.0;
-  return texels * (n_phi * (horizon + wedge_ops(bands)) + transfer_ops(bands)) + pyramid;
+  const double transfer_part = transfer == "exact" ? exact_transfer_ops(bands, n_phi)
+                                                   : n_phi * wedge_ops(bands) + transfer_ops(bands);
+  return texels * (n_phi * horizon + transfer_part) + pyramid;
 }
 
 double EnvConfig::bytes() const {
@@ -87,6 +92,9 @@ void BM_EnvUpdate(benchmark::State& state, EnvConfig cfg, bool with_error, std::
       break;
     case 5:
       env_update<5>(state, cfg, with_error, key);
+      break;
+    case 6:
+      env_update<6>(state, cfg, with_error, key);
       break;
     default:
       env_update<4>(state, cfg, with_error, key);
@@ -153,13 +161,18 @@ void register_env_sweep() {
       c.lo = lo;
       register_env(c, "sweep", 3, 5, std::nullopt, true);
     }
+  // Band counts 3-6 (issue 20): the exact transfer (default; 4 bands are the points above) and
+  // the thesis's truncated product beside it.
   for (int n_phi : {8, 32})
-    for (int bands : {3, 5}) {
-      EnvConfig c;
-      c.n_phi = n_phi;
-      c.bands = bands;
-      register_env(c, "sweep", 3, 5, std::nullopt, true);
-    }
+    for (const char* transfer : {"exact", "truncated"})
+      for (int bands : {3, 4, 5, 6}) {
+        EnvConfig c;
+        c.n_phi = n_phi;
+        c.bands = bands;
+        c.transfer = transfer;
+        if (c.transfer == "exact" && bands == 4) continue;
+        register_env(c, "sweep", 3, 5, std::nullopt, true);
+      }
 }
 
 }  // namespace penumbra::terrain_bench

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "penumbra/systems/terrain_shadow/transfer.h"
+
 namespace penumbra::terrain_bench {
 
 double wedge_ops(int n) {
@@ -11,7 +13,18 @@ double wedge_ops(int n) {
 }
 
 double transfer_ops(int n) {
-  return n == 3 ? transfer_ops<3>() : n == 4 ? transfer_ops<4>() : transfer_ops<5>();
+  return n == 3   ? transfer_ops<3>()
+         : n == 4 ? transfer_ops<4>()
+         : n == 5 ? transfer_ops<5>()
+                  : transfer_ops<6>();
+}
+
+double exact_transfer_ops(int n, int n_phi) {
+  const int terms = n == 3   ? ts::exact_transfer_term_count<3>()
+                    : n == 4 ? ts::exact_transfer_term_count<4>()
+                    : n == 5 ? ts::exact_transfer_term_count<5>()
+                             : ts::exact_transfer_term_count<6>();
+  return n_phi * (2 + kAtanOps + 1 + wedge_ops(n + 1)) + 4.0 * terms;
 }
 
 int march_samples_to(double dl, int levels, int level_step) {

@@ -14,6 +14,8 @@
 //   wedge (eq. 4.19): 5 N^2 per (texel, azimuth): bilinear table lookup 3 N^2, z rotation and
 //                    accumulation 2 N^2
 //   transfer (4.21): 2 N^2 (rotate the clamped cosine to n) + the factored product's FMAs
+//   exact transfer:  (default, transfer.h) per (texel, azimuth) the tangent plane 2 + arctangent
+//                    10 + max 1 and a wedge at N + 1 bands; per texel 4 per coupling G_ij
 //   shading:         3 N^2 per texel (one dot per channel)
 //   pyramid:         6 per sample and level (height_pyramid.h)
 //   lights:          for the texels the light is not culled for: march samples up to the light
@@ -74,6 +76,9 @@ double transfer_ops() {
   return 2.0 * N * N + sh::factored_term_count<N>();
 }
 double transfer_ops(int n);
+// The exact transfer per texel: tangent planes and wedges at n + 1 bands for n_phi azimuths,
+// then the couplings.
+double exact_transfer_ops(int n, int n_phi);
 
 // Samples of the march (d_0 = 1, d_{i+1} = d_i + sr^i, `levels` of them) used for a light at
 // plane distance `dl` cells: up to and including the first beyond it (horizon_march.cpp).
@@ -136,10 +141,11 @@ struct EnvConfig {
   float lo = 2;
   int bands = 4;
   int size = kSize;
+  std::string transfer = "exact";  // exact | truncated (TransferMethod)
 
   ts::TerrainShadowConfig config() const;
   bool uses_march_params() const { return method == "march"; }
-  std::string params_text() const;  // "n_phi:32/bands:4": part of the benchmark's name
+  std::string params_text() const;  // "n_phi:32/bands:4[/transfer:truncated]": in the name
   std::string params_json() const;  // the record's params
   // Minimal per-update work: horizons + wedges + transfer (+ pyramid for the march).
   double ops() const;
