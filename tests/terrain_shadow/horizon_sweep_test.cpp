@@ -144,6 +144,37 @@ TEST(HorizonSweep, WallCastsItsExactAngle) {
   EXPECT_NEAR(g.texel(10, 16)[0], std::atan(5.0f / 20.0f), 1e-6f);
 }
 
+// One direction (a key light's azimuth): at azimuth k it equals the full sweep's plane k; at
+// any other angle, the exact angle of a wall seen along it.
+TEST(HorizonSweep, OneDirectionEqualsTheSweepAndSeesAWall) {
+  const data::HeightField f = mountains(48);
+  HorizonParams p;
+  p.azimuths = 16;
+  HorizonGrid g;
+  sweep_horizons_scalar(f, p, TexelRect::all(f), g);
+  std::vector<float> one;
+  for (int k : {0, 3, 9}) {
+    sweep_direction_horizons(f, p, 2 * kPi * k / 16, TexelRect::all(f), one);
+    ASSERT_EQ(one.size(), 48u * 48u);
+    float m = 0;
+    for (int y = 0; y < 48; ++y)
+      for (int x = 0; x < 48; ++x)
+        m = std::max(m, std::abs(one[static_cast<std::size_t>(y) * 48 + x] - g.texel(x, y)[k]));
+    EXPECT_LT(m, 1e-6f) << k;
+  }
+  data::HeightField w;
+  w.width = w.height = 32;
+  w.cell_size = 2;
+  w.heights.assign(32 * 32, 0.0f);
+  for (int y = 0; y < 32; ++y) w.at(20, y) = 10;  // a wall 10 m high at x = 20
+  const float phi = 0.3f;  // towards +x, turned: the wall is 20 m / cos(phi) away along it
+  sweep_direction_horizons(w, p, phi, TexelRect::all(w), one);
+  EXPECT_NEAR(one[16 * 32 + 10], std::atan(10.0f * std::cos(phi) / 20.0f), 2e-3f);
+  EXPECT_NEAR(one[16 * 32 + 25], 0.0f, 1e-6f);  // past the wall
+  EXPECT_THROW(sweep_direction_horizons(w, p, std::nan(""), TexelRect::all(w), one),
+               std::invalid_argument);
+}
+
 TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
   const auto f = mountains(40);
   HorizonParams p;

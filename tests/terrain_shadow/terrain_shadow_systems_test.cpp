@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <glm/geometric.hpp>
+
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -36,8 +38,8 @@ struct Fixture {
     config.azimuths = 8;
     config.light_azimuths = 8;
     emplace_terrain_shadow_resources(world, config);
-    auto field = std::make_shared<data::HeightField>(
-        assets::procedural_scene("mountains", {32, 64.0f}, 2));
+    auto field =
+        std::make_shared<data::HeightField>(assets::procedural_scene("mountains", {32, 64.0f}, 2));
     terrain = world.create_with(Terrain{field, {-32.0f, -32.0f, 0.0f}}, TerrainLighting{});
     light = world.create_with(SphericalLight{{0.0f, 0.0f, 60.0f}, 4.0f, glm::vec3(5.0f)});
     auto& env = world.emplace_resource<EnvironmentLight>();
@@ -139,6 +141,46 @@ TEST(TerrainShadowSystems, RotatingEnvironmentReshadesFromStoredTransfer) {
   for (std::size_t i = 0; i < before->size(); ++i)
     diff += std::abs((*before)[i].x - (*f.lighting().rgb)[i].x);
   EXPECT_GT(diff, 0.0);
+}
+
+// With sources in the environment (kKeyLights, the default): the SH part is the OEM without
+// them and each source adds its key light; a turn by less than key_light_step of its radius
+// keeps the swept horizons, a larger one sweeps again; kShOnly ignores the sources.
+TEST(TerrainShadowSystems, EnvironmentSourcesBecomeKeyLights) {
+  Fixture f;
+  f.world.destroy(f.light);
+  auto& env = f.world.resource<EnvironmentLight>();
+  components::EnvironmentSource sun;
+  sun.direction = glm::normalize(glm::vec3(1.0f, 0.2f, 0.5f));
+  sun.angular_radius = 0.04f;
+  sun.irradiance = glm::vec3(40.0f);
+  env.sources = {sun};
+  env.oem_sh.assign(2, env.radiance);  // set 1: the whole map; set 0: without the sun
+  for (auto& c : env.oem_sh[0]) c[0] *= 0.5f;
+  env.sources_version = env.version;
+  f.frame();
+  const auto with_sun = f.lighting().rgb;
+  ASSERT_EQ(f.entry().key_lights.size(), 1u);
+  const std::vector<float> swept = f.entry().key_lights[0].horizons;
+  ASSERT_FALSE(swept.empty());
+
+  f.world.resource<TerrainShadowSettings>().sources = EnvironmentSources::kShOnly;
+  f.frame();
+  const auto sh_only = f.lighting().rgb;
+  ASSERT_NE(sh_only, with_sun);
+  double lit = 0, plain = 0;
+  for (std::size_t i = 0; i < sh_only->size(); ++i)
+    lit += (*with_sun)[i].x, plain += (*sh_only)[i].x;
+  EXPECT_NE(lit, plain);
+
+  f.world.resource<TerrainShadowSettings>().sources = EnvironmentSources::kKeyLights;
+  env.rotation_z = 0.2f * sun.angular_radius;  // under a quarter of the radius: same horizons
+  f.frame();
+  const float phi0 = f.entry().key_lights[0].phi;
+  env.rotation_z = 0.3f;  // far more: swept again for the new azimuth
+  f.frame();
+  EXPECT_NE(f.entry().key_lights[0].phi, phi0);
+  EXPECT_NE(f.entry().key_lights[0].horizons, swept);
 }
 
 TEST(TerrainShadowSystems, BrushEditUpdatesIncrementally) {

@@ -9,6 +9,8 @@
 #include <numbers>
 #include <stdexcept>
 
+#include <glm/geometric.hpp>
+
 #include "penumbra/assets/procedural.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
 
@@ -67,8 +69,8 @@ TEST(TerrainShadowing, FlatGroundSeesTheWholeSky) {
 
 TEST(TerrainShadowing, ValleyIsDarkerThanRidgeAndEverythingIsFinite) {
   TerrainShadowing<4> ts;
-  auto f = std::make_shared<data::HeightField>(
-      assets::procedural_scene("sine_grating", {64, 64.0f}, 1));
+  auto f =
+      std::make_shared<data::HeightField>(assets::procedural_scene("sine_grating", {64, 64.0f}, 1));
   ts.update(f, 4.0f);  // steepened: ridges 4x the default amplitude
   std::vector<glm::vec3> e;
   ts.shade_environment(constant_sky(1.0f), e);
@@ -94,6 +96,47 @@ TEST(TerrainShadowing, LightFacingAFlatReceiverMatchesTheClosedForm) {
   EXPECT_NEAR(e[16 * 32 + 16].x, expected, 0.08f * expected);
   // Farther receivers get less.
   EXPECT_LT(e[16 * 32 + 2].x, e[16 * 32 + 16].x);
+}
+
+// A key light (add_key_light): on flat ground E = irradiance x cos; behind a wall, the share of
+// the disc above the wall's horizon (half when the wall's top is at the disc's centre, none
+// when above its rim); bad input rejected.
+TEST(TerrainShadowing, KeyLightIsTheCosineTimesTheDiscAboveTheHorizon) {
+  TerrainShadowing<4> flat;
+  flat.update(test::shared_flat(32), 1.0f);
+  const glm::vec3 d = glm::normalize(glm::vec3(1.0f, 0.5f, 1.0f));
+  std::vector<float> h;
+  flat.key_light_horizons(d, h);
+  std::vector<glm::vec3> e;
+  flat.add_key_light(d, 0.01f, glm::vec3(2.0f, 1.0f, 0.5f), h, e);
+  EXPECT_NEAR(e[16 * 32 + 16].x, 2.0f * d.z, 1e-5f);
+  EXPECT_NEAR(e[16 * 32 + 16].z, 0.5f * d.z, 1e-5f);
+
+  auto wall = std::make_shared<data::HeightField>(*test::shared_flat(64));
+  for (int y = 0; y < 64; ++y) wall->at(40, y) = 10;  // 10 m high at x = 40 (1 m cells)
+  TerrainShadowing<4> ts;
+  ts.update(wall, 1.0f);
+  // A sun towards +x at the elevation of the wall's top seen from x = 30: atan(10 / 10) = 45
+  // degrees. The texel there sees half the disc; nearer the wall none, farther away all.
+  const float a = 0.05f;
+  const glm::vec3 sun(std::cos(kPi / 4), 0.0f, std::sin(kPi / 4));
+  ts.key_light_horizons(sun, h);
+  e.assign(64 * 64, glm::vec3(0.0f));
+  ts.add_key_light(sun, a, glm::vec3(1.0f), h, e);
+  const float open = sun.z;  // flat texel, the whole disc: cos = sun.z
+  EXPECT_NEAR(e[32 * 64 + 30].x, 0.5f * open, 0.05f * open);
+  EXPECT_EQ(e[32 * 64 + 35].x, 0.0f);
+  EXPECT_NEAR(e[32 * 64 + 10].x, open, 1e-5f);
+  EXPECT_GT(e[32 * 64 + 29].x, e[32 * 64 + 30].x);  // a little farther: more of the disc
+
+  EXPECT_THROW(ts.add_key_light(glm::vec3(0, 0, 2), a, glm::vec3(1.0f), h, e),
+               std::invalid_argument);
+  EXPECT_THROW(ts.add_key_light(sun, -1.0f, glm::vec3(1.0f), h, e), std::invalid_argument);
+  EXPECT_THROW(ts.add_key_light(sun, a, glm::vec3(NAN), h, e), std::invalid_argument);
+  const std::vector<float> short_h(10);
+  EXPECT_THROW(ts.add_key_light(sun, a, glm::vec3(1.0f), short_h, e), std::invalid_argument);
+  TerrainShadowing<4> empty;
+  EXPECT_THROW(empty.key_light_horizons(sun, h), std::invalid_argument);
 }
 
 // Radius 0, a receiver inside the light and a light under the terrain are covered for both

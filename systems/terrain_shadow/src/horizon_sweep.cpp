@@ -46,9 +46,9 @@ struct Scratch {
 // One azimuth over the region: sweep every line that passes through it, scatter the line
 // samples' horizons onto the texels between lines (weights by minor distance) and write them
 // to `plane` (region-sized, row-major in x, y).
-void sweep_azimuth(const data::HeightField& f, const HorizonParams& p, const TexelRect& r, int k,
-                   Scratch& sc, float* plane) {
-  const detail::AzimuthFrame frame(f, detail::azimuth_angle(k, p.azimuths));
+void sweep_direction(const data::HeightField& f, const HorizonParams& p, const TexelRect& r,
+                     double phi, Scratch& sc, float* plane) {
+  const detail::AzimuthFrame frame(f, phi);
   // Region in (major, minor) coordinates, half-open.
   const int u0 = frame.x_major ? r.x0 : r.y0, u1 = frame.x_major ? r.x1 : r.y1;
   const int v0 = frame.x_major ? r.y0 : r.x0, v1 = frame.x_major ? r.y1 : r.x1;
@@ -147,6 +147,11 @@ void sweep_azimuth(const data::HeightField& f, const HorizonParams& p, const Tex
     }
 }
 
+void sweep_azimuth(const data::HeightField& f, const HorizonParams& p, const TexelRect& r, int k,
+                   Scratch& sc, float* plane) {
+  sweep_direction(f, p, r, detail::azimuth_angle(k, p.azimuths), sc, plane);
+}
+
 void prepare_output(const data::HeightField& f, const HorizonParams& p, HorizonGrid& out) {
   if (out.width != f.width || out.height != f.height || out.azimuths != p.azimuths)
     out.resize(f.width, f.height, p.azimuths);
@@ -209,6 +214,18 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out) {
   sweep(field, params, region, out, Kernel::kLanes);
+}
+
+void sweep_direction_horizons(const data::HeightField& field, const HorizonParams& params,
+                              double phi, const TexelRect& region, std::vector<float>& out) {
+  validate_horizon_input(field, params, region);
+  if (params.limit_to_point || !std::isfinite(phi))
+    throw std::invalid_argument(field.source +
+                                ": sweep_direction_horizons needs a finite azimuth and no limit");
+  out.assign(region.count(), 0.0f);
+  if (region.empty()) return;
+  Scratch sc;
+  sweep_direction(field, params, region, phi, sc, out.data());  // [Timonen10] sec. 4
 }
 
 std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
@@ -286,8 +303,8 @@ float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 
   return to_angle(best, any, clamp_at_zero);
 }
 
-float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x,
-                         int y, int k) {
+float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x, int y,
+                         int k) {
   float limit = std::numeric_limits<float>::infinity();
   if (params.limit_to_point) {
     const glm::vec2 d = *params.limit_to_point - glm::vec2(x, y) * field.cell_size;

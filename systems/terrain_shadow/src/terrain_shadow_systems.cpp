@@ -1,6 +1,7 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
 
 #include <tbb/parallel_for.h>
@@ -112,23 +113,60 @@ void update_lights(ecs::World& w) {
   });
 }
 
+// Do the environment's sources stand apart (kKeyLights, a complete detection for this map)?
+bool key_lights_on(const EnvironmentLight* env, const TerrainShadowSettings& settings) {
+  return env && settings.sources == EnvironmentSources::kKeyLights && !env->sources.empty() &&
+         env->sources_version == env->version &&
+         env->oem_sh.size() == (std::size_t{1} << env->sources.size());
+}
+
+// The key lights' irradiance added to rgb, their horizons swept again where the light moved
+// by more than settings.key_light_step of its radius or the terrain changed.
+void add_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& settings,
+                    TerrainShadowState& x, std::vector<glm::vec3>& rgb) {
+  x.key_lights.resize(env.sources.size());
+  const float c = std::cos(env.rotation_z), s = std::sin(env.rotation_z);
+  for (std::size_t j = 0; j < env.sources.size(); ++j) {
+    const components::EnvironmentSource& src = env.sources[j];
+    const glm::vec3 d = src.direction;
+    const glm::vec3 dir = glm::normalize(glm::vec3(c * d.x - s * d.y, s * d.x + c * d.y, d.z));
+    const float phi = std::atan2(dir.y, dir.x);
+    TerrainShadowState::KeyLight& k = x.key_lights[j];
+    float moved = std::abs(std::remainder(phi - k.phi, 2 * std::numbers::pi_v<float>));
+    moved *= std::sqrt(std::max(0.0f, 1 - dir.z * dir.z));  // on the sky, not in azimuth alone
+    if (k.visibility != x.visibility_stamp || k.horizons.empty() ||
+        !(moved <= settings.key_light_step * src.angular_radius)) {
+      x.shadowing->key_light_horizons(dir, k.horizons);
+      k.phi = phi;
+      k.visibility = x.visibility_stamp;
+    }
+    x.shadowing->add_key_light(dir, src.angular_radius, src.irradiance, k.horizons, rgb);
+  }
+}
+
 void compose(ecs::World& w) {
   const EnvironmentLight* env = w.try_resource<const EnvironmentLight>();
+  const auto& settings = w.resource<const TerrainShadowSettings>();
+  const bool keys = key_lights_on(env, settings);
   w.query<TerrainShadowState, TerrainLighting>().each([&](TerrainShadowState& x,
                                                           TerrainLighting& lighting) {
     TerrainLighting* out = &lighting;
     if (!x.shadowing->ready()) return;
     const std::uint64_t env_version = env ? env->version + 1 : 0;
+    const std::uint64_t sources = keys ? env->sources_version + 1 : 0;
     const float rotation = env ? env->rotation_z : 0.0f;
     if (x.composed_visibility == x.visibility_stamp && x.composed_lights == x.lights_stamp &&
-        x.composed_environment == env_version && x.composed_rotation == rotation)
+        x.composed_environment == env_version && x.composed_rotation == rotation &&
+        x.composed_sources == sources)
       return;
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
-      for (int c = 0; c < 3; ++c)
-        radiance[c] = sh::rotate_z<kSystemBands>(env->radiance[c], rotation);
+      for (int c = 0; c < 3; ++c)  // without the sources: the OEM of none ([Ambrosj16] sec. 4.2)
+        radiance[c] =
+            sh::rotate_z<kSystemBands>(keys ? env->oem_sh.front()[c] : env->radiance[c], rotation);
     auto rgb = std::make_shared<std::vector<glm::vec3>>();
     x.shadowing->shade_environment(radiance, *rgb);  // [Meier13] eq. 4.21
+    if (keys) add_key_lights(*env, settings, x, *rgb);
     const bool lit = x.light_irradiance.size() == rgb->size();
     tbb::parallel_for(std::size_t{0}, rgb->size(), [&](std::size_t i) {
       glm::vec3 e = (*rgb)[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));  // eq. 4.30
@@ -143,6 +181,7 @@ void compose(ecs::World& w) {
     x.composed_lights = x.lights_stamp;
     x.composed_environment = env_version;
     x.composed_rotation = rotation;
+    x.composed_sources = sources;
   });
 }
 
@@ -168,7 +207,7 @@ void add_terrain_shadow_systems(jobs::Schedule& schedule) {
       .writes<TerrainShadowState>();
   schedule
       .add_task("terrain_shadow.compose", [](jobs::SystemContext& ctx) { compose(ctx.world()); })
-      .reads<EnvironmentLight>()
+      .reads<EnvironmentLight, TerrainShadowSettings>()
       .writes<TerrainShadowState, TerrainLighting>();
 }
 

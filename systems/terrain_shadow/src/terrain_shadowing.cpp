@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -411,6 +412,64 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       }
       const float e = cap_transfer(cap, normals_[i], horizon.data(), count, config_.cap_strips);
       irradiance[i] += radiance * e;
+    }
+  });
+}
+
+namespace {
+void check_key_light(const glm::vec3& d, float angular_radius, const glm::vec3& irradiance) {
+  const bool finite = std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
+  if (!finite || std::abs(glm::length(d) - 1.0f) > 1e-3f || !std::isfinite(angular_radius) ||
+      angular_radius < 0 || !std::isfinite(irradiance.x) || !std::isfinite(irradiance.y) ||
+      !std::isfinite(irradiance.z) || irradiance.x < 0 || irradiance.y < 0 || irradiance.z < 0)
+    throw std::invalid_argument(
+        "key light: direction must be a finite unit vector, angular radius and irradiance "
+        "finite and >= 0");
+}
+}  // namespace
+
+template <int N>
+void TerrainShadowing<N>::key_light_horizons(const glm::vec3& direction,
+                                             std::vector<float>& horizons) const {
+  if (!field_) throw std::invalid_argument("terrain shadowing: key_light_horizons before update");
+  check_key_light(direction, 0.0f, glm::vec3(0.0f));
+  HorizonParams p;
+  p.height_scale = height_scale_;
+  p.clamp_at_zero = true;  // as the environment's ([Meier13] sec. 4.2.1)
+  // A light straight overhead has no azimuth; any will do (the horizon is below it anyway).
+  const double phi = std::atan2(static_cast<double>(direction.y), static_cast<double>(direction.x));
+  sweep_direction_horizons(*field_, p, phi, TexelRect::all(*field_), horizons);
+}
+
+template <int N>
+void TerrainShadowing<N>::add_key_light(const glm::vec3& direction, float angular_radius,
+                                        const glm::vec3& irradiance,
+                                        std::span<const float> horizons,
+                                        std::vector<glm::vec3>& out) const {
+  if (!field_) throw std::invalid_argument("terrain shadowing: add_key_light before update");
+  check_key_light(direction, angular_radius, irradiance);
+  const std::size_t n = normals_.size();
+  if (horizons.size() != n)
+    throw std::invalid_argument("add_key_light: horizons are not one per texel");
+  out.resize(n, glm::vec3(0.0f));
+  const float elevation = std::asin(std::clamp(direction.z, -1.0f, 1.0f));
+  const float a = angular_radius;
+  if (elevation + a <= 0) return;  // the clamped horizon hides the whole disc everywhere
+  tbb::parallel_for(std::size_t{0}, n, std::size_t{4096}, [&](std::size_t i0) {
+    const std::size_t i1 = std::min(i0 + 4096, n);
+    for (std::size_t i = i0; i < i1; ++i) {
+      const float c = glm::dot(normals_[i], direction);
+      if (!(c > 0)) continue;
+      const float above = elevation - horizons[i];
+      float f;
+      if (a <= 0) {
+        f = above > 0 ? 1.0f : 0.0f;
+      } else {
+        // Share of a disc of radius a above a line `above` below its centre: the segment's area.
+        const float t = std::clamp(above / a, -1.0f, 1.0f);
+        f = (std::acos(-t) + t * std::sqrt(1 - t * t)) * std::numbers::inv_pi_v<float>;
+      }
+      out[i] += irradiance * (c * f);
     }
   });
 }

@@ -32,6 +32,13 @@ namespace penumbra::terrain_shadow {
 void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out);
 
+// Horizons of the texels of `region` along one azimuth `phi` (radians, any finite value), by
+// the same lines, hull and interpolation as sweep_horizons' azimuths (the scalar kernel, one
+// line at a time): a directional light's shadow. `out` gets region.count() angles, row-major
+// (x fastest). O(field) for one direction. Throws as sweep_horizons, and for a non-finite phi.
+void sweep_direction_horizons(const data::HeightField& field, const HorizonParams& params,
+                              double phi, const TexelRect& region, std::vector<float>& out);
+
 // The horizon seen from a plane position `start` (in cells, may be fractional) at height
 // `start_height` (metres, already scaled) along azimuth `phi` (radians), sampling the terrain
 // where the ray crosses the major axis's grid lines, as the sweep does: atan of the largest
@@ -72,7 +79,7 @@ void sweep_horizons_scalar(const data::HeightField& field, const HorizonParams& 
 // One texel's horizon at azimuth k exactly as the sweep computes it (kSweepLines), without the
 // rest of the field: what an edit recomputes for the few (texel, azimuth) pairs it can change.
 // Inputs are not validated (call validate_horizon_input once).
-float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x,
-                         int y, int k);
+float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x, int y,
+                         int k);
 
 }  // namespace penumbra::terrain_shadow

@@ -32,6 +32,15 @@ struct TerrainShadowState {
   std::uint64_t composed_visibility = ~0ull, composed_lights = ~0ull;
   std::uint64_t composed_environment = ~0ull;
   float composed_rotation = 0;
+  // Key lights (the environment's sources, compose): per source its horizons and the azimuth
+  // and visibility_stamp they were swept for.
+  struct KeyLight {
+    float phi = 0;
+    std::uint64_t visibility = ~0ull;
+    std::vector<float> horizons;
+  };
+  std::vector<KeyLight> key_lights;
+  std::uint64_t composed_sources = ~0ull;    // EnvironmentLight::sources_version composed (+1)
   LightRefresh refresh;                      // which tiles the lights re-shade
   std::uint64_t refresh_visibility = ~0ull;  // visibility_stamp the refresh tiles were made for
   glm::vec3 refresh_origin{0.0f};

@@ -8,10 +8,16 @@
 //       Sum of the spherical lights' irradiance per texel, re-shaded per tile: only the tiles
 //       where a change of the lights could show, worst first, at most a budget of texels per
 //       frame (light_refresh.h); every tile again, within the budget, when the terrain changed.
-//   terrain_shadow.compose     reads EnvironmentLight, writes TerrainShadowState,
-//       TerrainLighting: albedo-free outgoing radiance (E_env + E_lights) / pi per texel,
-//       published as a new shared array (render/packet.h) when any input changed. The
-//       environment's SH is rotated by rotation_z and dotted with the stored transfer vectors.
+//   terrain_shadow.compose     reads EnvironmentLight, TerrainShadowSettings, writes
+//       TerrainShadowState, TerrainLighting: albedo-free outgoing radiance
+//       (E_env + E_key + E_lights) / pi per texel, published as a new shared array
+//       (render/packet.h) when any input changed. The environment's SH is rotated by rotation_z
+//       and dotted with the stored transfer vectors. With EnvironmentSources::kKeyLights and
+//       sources found in the map (EnvironmentLight::sources, systems/environment), the SH is the
+//       map without them (the OEM of no source, [Ambrosj16] sec. 4.2) and each source is a key
+//       light shadowed by the terrain's horizon in its azimuth (TerrainShadowing::add_key_light);
+//       its horizons are swept again only when the light's azimuth moved by more than
+//       key_light_step of its angular radius or the terrain changed.
 //
 // Each system runs tbb::parallel_for over rows of texels inside its task (the executor's
 // arena), so the work is parallel over tiles even though the systems are sequential. The
@@ -28,10 +34,21 @@
 
 namespace penumbra::terrain_shadow {
 
-// Resource: how the system shades (read when a terrain first gets its TerrainShadowState).
+// What the environment's detected sources become on the terrain:
+//  - kShOnly: nothing apart; the whole map's SH (the sun blurred into it and its shadow soft);
+//  - kKeyLights: each source a key light with the terrain's exact horizon in its azimuth, the
+//    rest of the map in SH ([Ambrosj16] ch. 4; Snyder and Nowrouzezahrai 2008).
+enum class EnvironmentSources { kShOnly, kKeyLights };
+
+// Resource: how the system shades (config and light_refresh are read when a terrain first gets
+// its TerrainShadowState; the rest every frame).
 struct TerrainShadowSettings {
   TerrainShadowConfig config;
   LightRefreshConfig light_refresh;
+  EnvironmentSources sources = EnvironmentSources::kKeyLights;
+  // A key light's horizons are swept again when its azimuth moved by more than this share of
+  // its angular radius (the width of its penumbra; a point light: every move).
+  float key_light_step = 0.25f;
 };
 
 // Adds the TerrainShadowSettings resource (with `config`) when absent.

@@ -163,6 +163,23 @@ class TerrainShadowing {
   void add_spherical_light(const glm::vec3& centre, float radius, const glm::vec3& radiance,
                            std::vector<glm::vec3>& irradiance, std::span<const TexelRect> regions);
 
+  // A distant light (a sun or lamp found in the environment map, [Ambrosj16] ch. 4) as the
+  // terrain's key light, shadowed by the terrain's own horizon in its azimuth (Snyder and
+  // Nowrouzezahrai 2008): key_light_horizons sweeps every texel's horizon along the light's
+  // azimuth (one line sweep, sweep_direction_horizons, clamped at 0 as the environment's);
+  // add_key_light adds to every texel
+  //   E = irradiance x max(0, n . direction) x f,
+  // f the share of the light's disc (angular radius `angular_radius`) above that horizon: the
+  // area of the circular segment above the line at the horizon's elevation (a step for a point).
+  // `horizons` must come from key_light_horizons for the same azimuth (add_key_light does not
+  // check the azimuth: a caller may keep them while the light moves by less than it can show).
+  // Throws std::invalid_argument for a direction that is not finite and unit, a negative or
+  // non-finite radius or irradiance, or horizons of another size; before update(), as
+  // add_spherical_light.
+  void key_light_horizons(const glm::vec3& direction, std::vector<float>& horizons) const;
+  void add_key_light(const glm::vec3& direction, float angular_radius, const glm::vec3& irradiance,
+                     std::span<const float> horizons, std::vector<glm::vec3>& irradiance_out) const;
+
  private:
   void compute_normals(const TexelRect& r);
   void compute_transfer_rows(const std::vector<unsigned char>* mask);
