@@ -23,6 +23,7 @@
 #include "penumbra/data/height_field.h"
 #include "penumbra/render/packet.h"
 #include "penumbra/sh/projection.h"
+#include "penumbra/systems/environment/environment_light_update.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "penumbra/systems/spherical_lights/spherical_light_systems.h"
@@ -213,11 +214,18 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   terrain_shadow::emplace_terrain_shadow_resources(world, config.shadow, config.light_refresh);
   auto& settings = world.resource<systems::RenderSettings>();
   settings.sky.environment = map;
-  settings.view.exposure_ev = -1.5f;
+  settings.view.exposure_ev = -0.5f;
   EnvironmentLight& env = world.emplace_resource<EnvironmentLight>();
   env.map = map;
   env.radiance = sh::project_equirect<sh::kDefaultBands>(map->rgb.data(), map->width, map->height);
   env.version = 1;
+  // The map's sun (and any other bright source) found once: the terrain shades it as a key
+  // light with its exact horizon, the rest of the map in SH (issue 15; terrain_shadow_systems.h).
+  if (config.environment_sources > 0) {
+    environment::DetectionSettings detection;
+    detection.source_count = config.environment_sources;
+    environment::update_environment_light(env, detection);
+  }
 
   const float half = 0.5f * field->cell_size * (field->width - 1);
   // Vertical exaggeration 2: the DEM's 840 m of relief over 19 km reads better (a usual choice

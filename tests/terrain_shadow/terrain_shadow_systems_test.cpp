@@ -145,7 +145,8 @@ TEST(TerrainShadowSystems, RotatingEnvironmentReshadesFromStoredTransfer) {
 
 // With sources in the environment (kKeyLights, the default): the SH part is the OEM without
 // them and each source adds its key light; a turn by less than key_light_step of its radius
-// keeps the swept horizons, a larger one sweeps again; kShOnly ignores the sources.
+// keeps the swept horizons, a larger one sweeps again; kShOnly ignores the sources, and so does
+// kKeyLights for a source wider than key_light_max_radius.
 TEST(TerrainShadowSystems, EnvironmentSourcesBecomeKeyLights) {
   Fixture f;
   f.world.destroy(f.light);
@@ -181,6 +182,14 @@ TEST(TerrainShadowSystems, EnvironmentSourcesBecomeKeyLights) {
   f.frame();
   EXPECT_NE(f.entry().key_lights[0].phi, phi0);
   EXPECT_NE(f.entry().key_lights[0].horizons, swept);
+
+  // A source wider than key_light_max_radius (a glow, not a sun) stays in the SH: as kShOnly.
+  env.rotation_z = 0;
+  env.sources[0].angular_radius = 0.5f;
+  f.frame();
+  const auto wide = f.lighting().rgb;
+  ASSERT_EQ(wide->size(), sh_only->size());
+  for (std::size_t i = 0; i < wide->size(); ++i) EXPECT_EQ((*wide)[i], (*sh_only)[i]) << i;
 }
 
 TEST(TerrainShadowSystems, BrushEditUpdatesIncrementally) {

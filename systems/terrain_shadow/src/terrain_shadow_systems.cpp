@@ -113,20 +113,28 @@ void update_lights(ecs::World& w) {
   });
 }
 
-// Do the environment's sources stand apart (kKeyLights, a complete detection for this map)?
-bool key_lights_on(const EnvironmentLight* env, const TerrainShadowSettings& settings) {
-  return env && settings.sources == EnvironmentSources::kKeyLights && !env->sources.empty() &&
-         env->sources_version == env->version &&
-         env->oem_sh.size() == (std::size_t{1} << env->sources.size());
+// Which of the environment's sources stand apart as key lights (kKeyLights, a complete
+// detection for this map, no wider than key_light_max_radius): bit j for source j; 0: none.
+std::size_t key_light_mask(const EnvironmentLight* env, const TerrainShadowSettings& settings) {
+  if (!env || settings.sources != EnvironmentSources::kKeyLights || env->sources.empty() ||
+      env->sources_version != env->version ||
+      env->oem_sh.size() != (std::size_t{1} << env->sources.size()))
+    return 0;
+  std::size_t mask = 0;
+  for (std::size_t j = 0; j < env->sources.size(); ++j)
+    if (env->sources[j].angular_radius <= settings.key_light_max_radius)
+      mask |= std::size_t{1} << j;
+  return mask;
 }
 
 // The key lights' irradiance added to rgb, their horizons swept again where the light moved
 // by more than settings.key_light_step of its radius or the terrain changed.
 void add_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& settings,
-                    TerrainShadowState& x, std::vector<glm::vec3>& rgb) {
+                    std::size_t mask, TerrainShadowState& x, std::vector<glm::vec3>& rgb) {
   x.key_lights.resize(env.sources.size());
   const float c = std::cos(env.rotation_z), s = std::sin(env.rotation_z);
   for (std::size_t j = 0; j < env.sources.size(); ++j) {
+    if (!(mask >> j & 1)) continue;
     const components::EnvironmentSource& src = env.sources[j];
     const glm::vec3 d = src.direction;
     const glm::vec3 dir = glm::normalize(glm::vec3(c * d.x - s * d.y, s * d.x + c * d.y, d.z));
@@ -147,13 +155,13 @@ void add_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& se
 void compose(ecs::World& w) {
   const EnvironmentLight* env = w.try_resource<const EnvironmentLight>();
   const auto& settings = w.resource<const TerrainShadowSettings>();
-  const bool keys = key_lights_on(env, settings);
+  const std::size_t keys = key_light_mask(env, settings);
   w.query<TerrainShadowState, TerrainLighting>().each([&](TerrainShadowState& x,
                                                           TerrainLighting& lighting) {
     TerrainLighting* out = &lighting;
     if (!x.shadowing->ready()) return;
     const std::uint64_t env_version = env ? env->version + 1 : 0;
-    const std::uint64_t sources = keys ? env->sources_version + 1 : 0;
+    const std::uint64_t sources = keys ? ((env->sources_version + 1) << 8) | keys : 0;
     const float rotation = env ? env->rotation_z : 0.0f;
     if (x.composed_visibility == x.visibility_stamp && x.composed_lights == x.lights_stamp &&
         x.composed_environment == env_version && x.composed_rotation == rotation &&
@@ -161,12 +169,12 @@ void compose(ecs::World& w) {
       return;
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
-      for (int c = 0; c < 3; ++c)  // without the sources: the OEM of none ([Ambrosj16] sec. 4.2)
-        radiance[c] =
-            sh::rotate_z<kSystemBands>(keys ? env->oem_sh.front()[c] : env->radiance[c], rotation);
+      for (int c = 0; c < 3; ++c)  // without the key lights: their OEM ([Ambrosj16] sec. 4.2)
+        radiance[c] = sh::rotate_z<kSystemBands>(
+            keys ? env->oem_sh[env->oem_sh.size() - 1 - keys][c] : env->radiance[c], rotation);
     auto rgb = std::make_shared<std::vector<glm::vec3>>();
     x.shadowing->shade_environment(radiance, *rgb);  // [Meier13] eq. 4.21
-    if (keys) add_key_lights(*env, settings, x, *rgb);
+    if (keys) add_key_lights(*env, settings, keys, x, *rgb);
     const bool lit = x.light_irradiance.size() == rgb->size();
     tbb::parallel_for(std::size_t{0}, rgb->size(), [&](std::size_t i) {
       glm::vec3 e = (*rgb)[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));  // eq. 4.30

@@ -39,7 +39,10 @@ namespace penumbra::game {
 
 struct TerrainDemoConfig {
   std::string data_dir;                  // ../shared/data; empty: PENUMBRA_SHARED_DATA
-  std::string environment = "dawn.exr";  // in data_dir/hdri: a low sun, so shadows are long
+  std::string environment = "sunrise.exr";  // in data_dir/hdri: a low sun, so shadows are long
+  // Bright sources to find in the map (systems/environment) and shade as the terrain's key
+  // lights; 0: the map as SH alone.
+  int environment_sources = 1;
   int terrain_size = 257;  // samples per side, cropped from the DEM's centre (2^k + 1: the
                            // renderer's terrain_bintree.h splits no border)
   float sky_rotation_speed = 0.05f;  // rad/s

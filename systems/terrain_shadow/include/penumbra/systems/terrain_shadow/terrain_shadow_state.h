@@ -40,7 +40,7 @@ struct TerrainShadowState {
     std::vector<float> horizons;
   };
   std::vector<KeyLight> key_lights;
-  std::uint64_t composed_sources = ~0ull;    // EnvironmentLight::sources_version composed (+1)
+  std::uint64_t composed_sources = ~0ull;    // (sources_version + 1) << 8 | key-light mask
   LightRefresh refresh;                      // which tiles the lights re-shade
   std::uint64_t refresh_visibility = ~0ull;  // visibility_stamp the refresh tiles were made for
   glm::vec3 refresh_origin{0.0f};

@@ -13,9 +13,10 @@
 //       (E_env + E_key + E_lights) / pi per texel, published as a new shared array
 //       (render/packet.h) when any input changed. The environment's SH is rotated by rotation_z
 //       and dotted with the stored transfer vectors. With EnvironmentSources::kKeyLights and
-//       sources found in the map (EnvironmentLight::sources, systems/environment), the SH is the
-//       map without them (the OEM of no source, [Ambrosj16] sec. 4.2) and each source is a key
-//       light shadowed by the terrain's horizon in its azimuth (TerrainShadowing::add_key_light);
+//       sources found in the map (EnvironmentLight::sources, systems/environment), each source
+//       no wider than key_light_max_radius is a key light shadowed by the terrain's horizon in
+//       its azimuth (TerrainShadowing::add_key_light) and the SH is the map without those (its
+//       OEM, [Ambrosj16] sec. 4.2);
 //       its horizons are swept again only when the light's azimuth moved by more than
 //       key_light_step of its angular radius or the terrain changed.
 //
@@ -49,6 +50,10 @@ struct TerrainShadowSettings {
   // A key light's horizons are swept again when its azimuth moved by more than this share of
   // its angular radius (the width of its penumbra; a point light: every move).
   float key_light_step = 0.25f;
+  // Sources wider than this (radians; 0.2 = 11.5 degrees) stay in the SH: a glow over a third of
+  // the sky is no directional light (docs/environment.md: suns come out 2.7-3.2 degrees, wide
+  // bright areas 28-47).
+  float key_light_max_radius = 0.2f;
 };
 
 // Adds the TerrainShadowSettings resource (with `config`) when absent.
