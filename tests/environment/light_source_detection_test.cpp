@@ -10,11 +10,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "synthetic_maps.h"
 
@@ -197,6 +199,19 @@ TEST(LightSourceDetection, BadSettingsNameTheField) {
   s = {};
   s.min_clusters = 0;
   EXPECT_THROW(env::detect_light_sources(m, s), std::invalid_argument);
+}
+
+// Maps smaller than the prefilter: the radius shrinks to fit, no error, no crash.
+TEST(LightSourceDetection, TinyMapsDoNotFail) {
+  for (const auto& [w, h] : {std::pair{1, 1}, std::pair{2, 1}, std::pair{3, 2}, std::pair{8, 4}}) {
+    auto m = t::flat_map(w, h, kSky);
+    for (int c = 0; c < 3; ++c) m.rgb[static_cast<std::size_t>(c)] = 1e4f;
+    env::DetectionSettings s;
+    s.source_count = env::kMaxSources;
+    env::LightSourceDetection d;
+    EXPECT_NO_THROW(d = env::detect_light_sources(m, s)) << w << "x" << h;
+    EXPECT_LE(d.sources.size(), static_cast<std::size_t>(w * h));
+  }
 }
 
 TEST(LightSourceDetection, Deterministic) {

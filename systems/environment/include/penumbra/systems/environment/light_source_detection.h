@@ -6,9 +6,10 @@
 // (check_environment_map: NaN, infinite or negative texels are rejected naming the map and the
 // texel) and the settings (std::invalid_argument naming the field), and never fails otherwise:
 // an all-black map, a map with no bright region, or fewer bright blobs than requested give
-// fewer sources (possibly none), each with a `stop` reason. Sources come brightest first; their
-// texel sets are disjoint. Directions are unit vectors in Penumbra's z-up frame
-// (penumbra/sh/projection.h). Deterministic: the same map and settings give the same result.
+// fewer sources (possibly none) and a `stop` reason. Sources come in the order found (the
+// largest cluster mean luminance first, Algorithm 1's Sort); their texel sets are disjoint.
+// Directions are unit vectors in Penumbra's z-up frame (penumbra/sh/projection.h).
+// Deterministic: the same map and settings give the same result.
 // Threading: a pure function of its arguments, single-threaded; independent calls may run
 // concurrently.
 #pragma once
@@ -54,7 +55,8 @@ enum class PercentileWeight {
   kTexelCount   // [Ambrosj16]: the share of the texels
 };
 
-// Every parameter of the detection, defaults from [Ambrosj16] sec. 4.1 and 5.1.1.
+// Every parameter of the detection; defaults from [Ambrosj16] sec. 4.1 and 5.1.1 where it has
+// them, the enums' defaults are Penumbra's deviations (docs/environment.md).
 struct DetectionSettings {
   int source_count = 2;            // nLightSources: sources wanted (at most kMaxSources)
   int prefilter_radius = 4;        // Gaussian prefilter radius in texels (sec. 5.1.1)
@@ -68,7 +70,8 @@ struct DetectionSettings {
   float core_fraction = 0.5f;
   int max_iterations = 100;  // k-means Lloyd steps per source
   // A cluster is a source only if its mean (prefiltered) luminance is at least this multiple
-  // of the map's solid-angle-weighted mean luminance: a map with no bright region gives none.
+  // of the solid-angle-weighted mean luminance of what is left of the map (the sources found so
+  // far blackened): a map with no bright region gives none. Penumbra's, not 003's.
   float min_contrast = 8.0f;
   ClusterSpace cluster_space = ClusterSpace::kUnitDirection;
   KMeansSeeding seeding = KMeansSeeding::kFarthestPoint;
@@ -92,7 +95,7 @@ struct DetectedSource {
   glm::vec3 radiance{0};         // irradiance / solid_angle: the mean RGB radiance
   float energy_share = 0;        // share of the map's luminous energy in the removed texels
   float cluster_share = 0;       // [Ambrosj16]'s luminanceLoss: the light cluster's share
-  float peak_contrast = 0;       // cluster mean luminance / map mean luminance (prefiltered)
+  float peak_contrast = 0;       // cluster mean luminance / remaining mean (see min_contrast)
   int clusters = 0;              // k used when it was found
   int light_texels = 0;          // texels of its light cluster (D^l)
   std::vector<std::uint32_t> texels;  // removed texels (y * width + x), ascending
