@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -46,34 +47,50 @@ void check_settings(const DetectionSettings& s) {
     fail("min_contrast", "= " + std::to_string(s.min_contrast) + " is negative or not finite");
 }
 
-// The values at two percentiles of `values`: by texel count (003) or by solid angle (the share of
-// the sphere, not of the texels, below the value). One sort of (value, weight) pairs.
+// The values at two percentiles of `values` (all >= 0): by texel count (003) or by solid angle
+// (the share of the sphere, not of the texels, below the value). The nearest rank of a sort,
+// found without sorting everything: a histogram over the floats' top 16 bits (ordered like
+// non-negative values), then a sort of the one bucket holding each rank.
 void percentile_values(const std::vector<float>& values, const std::vector<float>& row_omega,
                        int width, bool by_solid_angle, float p_light, float p_halo, float& light,
                        float& halo) {
-  std::vector<std::pair<float, float>> v(values.size());
+  const auto row_width = static_cast<std::size_t>(width);
+  auto weight = [&](std::size_t i) { return by_solid_angle ? row_omega[i / row_width] : 1.0f; };
+  auto bucket = [](float v) {
+    std::uint32_t bits = 0;
+    if (v > 0.0f) std::memcpy(&bits, &v, sizeof bits);  // -0 and 0 in bucket 0
+    return bits >> 16;
+  };
+  std::vector<double> hist(std::size_t{1} << 16, 0.0);
   double total = 0;
+  float max_value = 0;
   for (std::size_t i = 0; i < values.size(); ++i) {
-    const float w = by_solid_angle ? row_omega[i / static_cast<std::size_t>(width)] : 1.0f;
-    v[i] = {values[i], w};
+    const float w = weight(i);
+    hist[bucket(values[i])] += w;
     total += w;
+    max_value = std::max(max_value, values[i]);
   }
-  std::sort(v.begin(), v.end());
-  const double want_halo = total * p_halo / 100.0, want_light = total * p_light / 100.0;
-  double acc = 0;
-  halo = light = v.back().first;
-  bool halo_set = false;
-  for (const auto& [value, w] : v) {
-    acc += w;
-    if (!halo_set && acc >= want_halo) {
-      halo = value;
-      halo_set = true;
+  auto at = [&](float percentile) {
+    const double want = total * percentile / 100.0;
+    double acc = 0;
+    std::size_t b = 0;
+    for (; b < hist.size(); ++b) {
+      if (acc + hist[b] >= want) break;
+      acc += hist[b];
     }
-    if (acc >= want_light) {
-      light = value;
-      break;
+    if (b == hist.size()) return max_value;
+    std::vector<std::pair<float, float>> in;
+    for (std::size_t i = 0; i < values.size(); ++i)
+      if (bucket(values[i]) == b) in.emplace_back(values[i], weight(i));
+    std::sort(in.begin(), in.end());
+    for (const auto& [value, w] : in) {
+      acc += w;
+      if (acc >= want) return value;
     }
-  }
+    return in.empty() ? max_value : in.back().first;
+  };
+  light = at(p_light);
+  halo = at(p_halo);
 }
 
 }  // namespace
