@@ -410,6 +410,59 @@ void BlockerAccumulation<N>::shade(const sh::CoeffsRgb<N>& radiance,
   }
 }
 
+namespace {
+// Share of a disc of angular radius a covered by a cap of angular radius b whose centre is g
+// away (small-angle: the planar lens area over pi a^2).
+float disc_covered(float a, float b, float g) {
+  if (g >= a + b) return 0.0f;
+  if (!(a > 0)) return g < b ? 1.0f : 0.0f;
+  if (g <= b - a) return 1.0f;
+  if (g <= a - b) return (b * b) / (a * a);
+  const float ca = std::clamp((g * g + a * a - b * b) / (2 * g * a), -1.0f, 1.0f);
+  const float cb = std::clamp((g * g + b * b - a * a) / (2 * g * b), -1.0f, 1.0f);
+  const float k = std::max(0.0f, (-g + a + b) * (g + a - b) * (g - a + b) * (g + a + b));
+  const float lens = a * a * std::acos(ca) + b * b * std::acos(cb) - 0.5f * std::sqrt(k);
+  return std::clamp(lens / (std::numbers::pi_v<float> * a * a), 0.0f, 1.0f);
+}
+}  // namespace
+
+template <int N>
+float BlockerAccumulation<N>::key_light_visibility(const glm::vec3& p, const glm::vec3& direction,
+                                                   float angular_radius) const {
+  float v = 1.0f;
+  const BlockerGrid::Candidates c = grid_.candidates(p);
+  const auto one = [&](std::uint32_t i) {
+    const WorldSphere& s = spheres_[i];
+    if (!(s.radius > 0)) return;
+    const glm::vec3 to = s.centre - p;
+    const float d = glm::length(to);
+    if (d <= s.radius) {
+      v = 0.0f;  // inside a blocker
+      return;
+    }
+    const float cos_g = glm::dot(to, direction) / d;
+    const float b = std::asin(s.radius / d);
+    if (cos_g <= std::cos(std::min(b + angular_radius, std::numbers::pi_v<float>))) return;
+    v *= 1.0f - disc_covered(angular_radius, b, std::acos(std::clamp(cos_g, -1.0f, 1.0f)));
+  };
+  // The grid holds the groups' bounds: a group whose bound's cap misses the disc is skipped
+  // whole (its spheres lie inside the bound), else its spheres are tested.
+  for (const auto list : {c.near, c.everywhere})
+    for (const std::uint32_t gi : list) {
+      const BlockerGroup& g = groups_[gi];
+      const glm::vec3 to = g.bound.centre - p;
+      const float d = glm::length(to);
+      if (d > g.bound.radius) {
+        const float b = std::asin(g.bound.radius / d);
+        if (glm::dot(to, direction) / d <=
+            std::cos(std::min(b + angular_radius, std::numbers::pi_v<float>)))
+          continue;
+      }
+      for (std::uint32_t i = g.first; i < g.first + g.count && v > 0; ++i) one(i);
+    }
+  return v;
+}
+
 template class BlockerAccumulation<3>;
 template class BlockerAccumulation<4>;
 template class BlockerAccumulation<5>;

@@ -6,6 +6,8 @@
 #include <mutex>
 #include <numbers>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -28,7 +30,9 @@
 #include "penumbra/systems/blocker_accumulation/receiver_round_robin.h"
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
 #include "penumbra/systems/terrain_shadow/cast_shadow.h"
+#include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/terrain_horizons.h"
+#include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -59,6 +63,62 @@ sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>())
     for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
   return radiance;
+}
+
+// A key light at the receivers: the world direction (the source's turned by the sky's
+// rotation), its azimuth, angular radius and irradiance at normal incidence.
+struct KeyLight {
+  glm::vec3 direction;
+  float phi, radius;
+  glm::vec3 irradiance;
+};
+
+// The environment at the receivers: the SH of what is not a key light, and the key lights
+// (BlockerSettingsResource::sources).
+sh::CoeffsRgb<N> receiver_environment(ecs::World& w, std::vector<KeyLight>& keys) {
+  keys.clear();
+  const EnvironmentLight* env = w.try_resource<const EnvironmentLight>();
+  if (!env) return {};
+  const BlockerSettingsResource& s = w.resource<const BlockerSettingsResource>();
+  const std::size_t mask = s.sources == components::EnvironmentSources::kKeyLights
+                               ? components::key_light_mask(*env, s.key_light_max_radius)
+                               : 0;
+  const sh::CoeffsRgb<N>& sh = mask ? env->oem_sh[env->oem_sh.size() - 1 - mask] : env->radiance;
+  sh::CoeffsRgb<N> radiance{};
+  for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(sh[c], env->rotation_z);
+  const float cr = std::cos(env->rotation_z), sr = std::sin(env->rotation_z);
+  for (std::size_t j = 0; j < env->sources.size(); ++j) {
+    if (!(mask >> j & 1)) continue;
+    const glm::vec3 d = env->sources[j].direction;
+    const glm::vec3 dir = glm::normalize(glm::vec3(cr * d.x - sr * d.y, sr * d.x + cr * d.y, d.z));
+    keys.push_back({dir, std::atan2(dir.y, dir.x), env->sources[j].angular_radius,
+                    env->sources[j].irradiance});
+  }
+  return radiance;
+}
+
+// The key lights' irradiance at (p, n): the disc the blockers leave, times the share above the
+// terrain's horizon from p in the light's azimuth (terrain_shadow::ray_horizon).
+glm::vec3 key_light_irradiance(const BlockerAccumulation<N>& acc, std::span<const KeyLight> keys,
+                               const components::Terrain* terrain, const glm::vec3& p,
+                               const glm::vec3& n) {
+  glm::vec3 e(0.0f);
+  for (const KeyLight& k : keys) {
+    const float c = glm::dot(n, k.direction);
+    if (!(c > 0)) continue;
+    float v = acc.key_light_visibility(p, k.direction, k.radius);
+    if (v > 0 && terrain) {
+      const data::HeightField& f = *terrain->heights;
+      const glm::vec3 at = p - terrain->origin;
+      const float horizon =
+          terrain_shadow::ray_horizon(f, terrain->height_scale, glm::vec2(at.x, at.y) / f.cell_size,
+                                      at.z, k.phi, std::numeric_limits<float>::infinity(), false);
+      v *= terrain_shadow::disc_share_above(
+          std::asin(std::clamp(k.direction.z, -1.0f, 1.0f)) - horizon, k.radius);
+    }
+    e += k.irradiance * (c * v);
+  }
+  return e;
 }
 
 // The bound and disc coverage of the set's spheres `members` (bound_group,
@@ -202,7 +262,8 @@ void shade(ecs::World& w) {
   BlockerField& field = w.resource<BlockerField>();
   if (!field.accumulation) return;
   const BlockerAccumulation<N>& acc = *field.accumulation;
-  const sh::CoeffsRgb<N> radiance = environment_radiance(w);
+  std::vector<KeyLight> keys;
+  const sh::CoeffsRgb<N> radiance = receiver_environment(w, keys);
   const components::Camera* camera = w.try_resource<const components::Camera>();
   field.receivers = 0;
   const components::Terrain* terrain = nullptr;
@@ -286,6 +347,11 @@ void shade(ecs::World& w) {
                   lobe ? acc.glossy_radiance(radiance, p, nn, glm::normalize(camera->position - p),
                                              *lobe, extra)
                        : (*irradiance)[i] * std::numbers::inv_pi_v<float>;
+              if (!keys.empty()) {  // diffuse only: the lobe's highlight of a sun is not drawn
+                const glm::vec3 k = key_light_irradiance(acc, keys, terrain, p, nn);
+                (*irradiance)[i] += k;
+                (*shown)[i] += k * std::numbers::inv_pi_v<float>;
+              }
             }
           });
       if (!error.empty()) {

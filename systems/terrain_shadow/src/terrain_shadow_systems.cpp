@@ -113,18 +113,10 @@ void update_lights(ecs::World& w) {
   });
 }
 
-// Which of the environment's sources stand apart as key lights (kKeyLights, a complete
-// detection for this map, no wider than key_light_max_radius): bit j for source j; 0: none.
+// Which of the environment's sources stand apart as key lights (bit j: source j).
 std::size_t key_light_mask(const EnvironmentLight* env, const TerrainShadowSettings& settings) {
-  if (!env || settings.sources != EnvironmentSources::kKeyLights || env->sources.empty() ||
-      env->sources_version != env->version ||
-      env->oem_sh.size() != (std::size_t{1} << env->sources.size()))
-    return 0;
-  std::size_t mask = 0;
-  for (std::size_t j = 0; j < env->sources.size(); ++j)
-    if (env->sources[j].angular_radius <= settings.key_light_max_radius)
-      mask |= std::size_t{1} << j;
-  return mask;
+  if (!env || settings.sources != EnvironmentSources::kKeyLights) return 0;
+  return components::key_light_mask(*env, settings.key_light_max_radius);
 }
 
 // The key lights' irradiance added to rgb, their horizons swept again where the light moved

@@ -416,6 +416,12 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
   });
 }
 
+float disc_share_above(float above, float angular_radius) {
+  if (!(angular_radius > 0)) return above > 0 ? 1.0f : 0.0f;
+  const float t = std::clamp(above / angular_radius, -1.0f, 1.0f);
+  return (std::acos(-t) + t * std::sqrt(1 - t * t)) * std::numbers::inv_pi_v<float>;
+}
+
 namespace {
 void check_key_light(const glm::vec3& d, float angular_radius, const glm::vec3& irradiance) {
   const bool finite = std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
@@ -460,16 +466,7 @@ void TerrainShadowing<N>::add_key_light(const glm::vec3& direction, float angula
     for (std::size_t i = i0; i < i1; ++i) {
       const float c = glm::dot(normals_[i], direction);
       if (!(c > 0)) continue;
-      const float above = elevation - horizons[i];
-      float f;
-      if (a <= 0) {
-        f = above > 0 ? 1.0f : 0.0f;
-      } else {
-        // Share of a disc of radius a above a line `above` below its centre: the segment's area.
-        const float t = std::clamp(above / a, -1.0f, 1.0f);
-        f = (std::acos(-t) + t * std::sqrt(1 - t * t)) * std::numbers::inv_pi_v<float>;
-      }
-      out[i] += irradiance * (c * f);
+      out[i] += irradiance * (c * disc_share_above(elevation - horizons[i], a));
     }
   });
 }

@@ -7,6 +7,7 @@
 // of the sources keep using it unchanged.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -44,5 +45,25 @@ struct EnvironmentLight {
   std::vector<sh::CoeffsRgb<sh::kDefaultBands>> oem_sh;  // kDefaultBands
   std::uint64_t sources_version = 0;  // the `version` the sources and OEMs were found for
 };
+
+// What a lighting system does with the sources (its settings hold one):
+//  - kShOnly: nothing apart; the whole map's SH (the sun blurred into it, its shadow soft);
+//  - kKeyLights: each source no wider than the system's limit is a key light with its own
+//    shadow, the rest of the map in SH (its OEM, [Ambrosj16] ch. 4).
+enum class EnvironmentSources { kShOnly, kKeyLights };
+
+// The sources of `env` taken as key lights: bit j for source j, those no wider than
+// max_angular_radius (radians), when the detection is complete for the current map (the
+// sources_version matches and every OEM set is there); 0 otherwise. The SH left for the rest of
+// the map is then oem_sh[oem_sh.size() - 1 - mask] (every other source still in it).
+inline std::size_t key_light_mask(const EnvironmentLight& env, float max_angular_radius) {
+  if (env.sources.empty() || env.sources.size() > 16 || env.sources_version != env.version ||
+      env.oem_sh.size() != (std::size_t{1} << env.sources.size()))
+    return 0;
+  std::size_t mask = 0;
+  for (std::size_t j = 0; j < env.sources.size(); ++j)
+    if (env.sources[j].angular_radius <= max_angular_radius) mask |= std::size_t{1} << j;
+  return mask;
+}
 
 }  // namespace penumbra::components

@@ -131,6 +131,16 @@ class BlockerAccumulation {
   glm::vec3 irradiance_from_log(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
                                 const glm::vec3& n, const sh::Coeffs<N>& log_v,
                                 sh::Coeffs<N>* visibility_out = nullptr) const;
+  // How much of a distant light's disc (unit `direction`, angular radius `angular_radius`) the
+  // blockers leave visible from p: the product over the blockers near p (the grid's candidates:
+  // spheres of groups whose bound has sin(angular radius) above min_sin there, so a shadow
+  // reaches about r / min_sin from its object) of 1 - the share of the disc the sphere's cap covers
+  // (two discs' overlap, small-angle; a point light: in or out). 0 inside a sphere. Exact where one
+  // sphere covers the disc; the product treats overlapping blockers as independent. For the
+  // environment's key lights
+  // ([Ambrosj16] ch. 4): a sharp sun shadow where the SH visibility can only give a soft one.
+  float key_light_visibility(const glm::vec3& p, const glm::vec3& direction,
+                             float angular_radius) const;
   // irradiance() for many receivers; `visibility` may be empty (not wanted) or one per point.
   void shade(const sh::CoeffsRgb<N>& radiance, std::span<const glm::vec3> points,
              std::span<const glm::vec3> normals, std::span<sh::Coeffs<N>> visibility,

@@ -37,6 +37,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "penumbra/components/environment_light.h"
 #include "penumbra/components/sphere_set.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
@@ -64,6 +65,13 @@ struct BlockerSettingsResource {
   // boulders hold 5,620 points: each is re-shaded every 5-6 frames (0.2 s, 7-10 degrees of
   // its roll).
   std::size_t receiver_budget = 1024;
+  // The environment's sources (components/environment_light.h): kKeyLights shades each source
+  // no wider than key_light_max_radius (radians) at the receivers as a key light, its disc
+  // occluded by the blockers (BlockerAccumulation::key_light_visibility) and by the terrain's
+  // horizon from the receiver in its azimuth, and the rest of the map in SH ([Ambrosj16] ch. 4).
+  // The blockers' shadows on the terrain keep the whole map's SH.
+  components::EnvironmentSources sources = components::EnvironmentSources::kKeyLights;
+  float key_light_max_radius = 0.2f;
 };
 
 // How blockers.gather groups a sphere set (cached per set array): the hierarchy's object level

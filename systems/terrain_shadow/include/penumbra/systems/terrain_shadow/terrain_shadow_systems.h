@@ -28,6 +28,7 @@
 // optional (absent: black). Spherical lights are world positions.
 #pragma once
 
+#include "penumbra/components/environment_light.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
 #include "penumbra/systems/terrain_shadow/light_refresh.h"
@@ -35,11 +36,10 @@
 
 namespace penumbra::terrain_shadow {
 
-// What the environment's detected sources become on the terrain:
-//  - kShOnly: nothing apart; the whole map's SH (the sun blurred into it and its shadow soft);
-//  - kKeyLights: each source a key light with the terrain's exact horizon in its azimuth, the
-//    rest of the map in SH ([Ambrosj16] ch. 4; Snyder and Nowrouzezahrai 2008).
-enum class EnvironmentSources { kShOnly, kKeyLights };
+// What the environment's detected sources become on the terrain (components/environment_light.h):
+// kKeyLights: each a key light with the terrain's exact horizon in its azimuth, the rest of the
+// map in SH ([Ambrosj16] ch. 4; Snyder and Nowrouzezahrai 2008).
+using components::EnvironmentSources;
 
 // Resource: how the system shades (config and light_refresh are read when a terrain first gets
 // its TerrainShadowState; the rest every frame).

@@ -120,6 +120,11 @@ struct UpdateStats {
   std::size_t transfer_texels = 0;  // transfer vectors recomputed
 };
 
+// The share of a light's disc (angular radius `angular_radius`, radians) above a horizontal
+// line `above` radians below its centre (negative: the line above the centre): the circular
+// segment's area over the disc's (small-angle, planar); a step at 0 for a point (radius 0).
+float disc_share_above(float above, float angular_radius);
+
 template <int N>
 class TerrainShadowing {
  public:
