@@ -24,7 +24,7 @@ double exact_transfer_ops(int n, int n_phi) {
                     : n == 4 ? ts::exact_transfer_term_count<4>()
                     : n == 5 ? ts::exact_transfer_term_count<5>()
                              : ts::exact_transfer_term_count<6>();
-  return n_phi * (2 + kAtanOps + 1 + wedge_ops(n + 1)) + 4.0 * terms;
+  return n_phi * (2 + kAtanOps + 1 + wedge_ops(n + 1)) + terms + 3.0 * n * n;
 }
 
 int march_samples_to(double dl, int levels, int level_step) {

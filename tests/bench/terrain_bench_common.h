@@ -15,7 +15,8 @@
 //                    accumulation 2 N^2
 //   transfer (4.21): 2 N^2 (rotate the clamped cosine to n) + the factored product's FMAs
 //   exact transfer:  (default, transfer.h) per (texel, azimuth) the tangent plane 2 + arctangent
-//                    10 + max 1 and a wedge at N + 1 bands; per texel 4 per coupling G_ij
+//                    10 + max 1 and a wedge at N + 1 bands; per texel 1 per non-zero
+//                    component of a coupling G_ij and 3 N^2 to weigh them by the normal
 //   shading:         3 N^2 per texel (one dot per channel)
 //   pyramid:         6 per sample and level (height_pyramid.h)
 //   lights:          for the texels the light is not culled for: march samples up to the light

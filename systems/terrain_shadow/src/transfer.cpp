@@ -31,14 +31,20 @@ sh::Coeffs<N> diffuse_transfer(const sh::Coeffs<N>& visibility, const glm::vec3&
 
 namespace {
 
-// G_ij = integral y_i y_j (x, y, z) dw for i < N^2, j < (N + 1)^2, the non-zero ones (|l_i - l_j|
-// = 1), by a quadrature exact for the degree-2N integrand.
+// G_ij = integral y_i y_j (x, y, z) dw for i < N^2, j < (N + 1)^2, by a quadrature exact for the
+// degree-2N integrand; one sparse list per component (non-zero only for |l_i - l_j| = 1), each
+// in slot order (the k-th entry of every output, then the (k+1)-th) so that consecutive
+// multiply-adds go to different outputs.
 struct Coupling {
   std::uint16_t i, j;
-  float g[3];
+  float g;
 };
 template <int N>
-std::vector<Coupling> couplings() {
+struct Couplings {
+  std::vector<Coupling> c[3];  // x, y, z
+};
+template <int N>
+Couplings<N> couplings() {
   constexpr int M = N + 1;
   const sh::SphereQuadrature q = sh::SphereQuadrature::gauss(M + 1, 2 * M + 2);
   std::vector<double> g(static_cast<std::size_t>(3 * N * N * M * M), 0.0);
@@ -51,16 +57,21 @@ std::vector<Coupling> couplings() {
         for (int c = 0; c < 3; ++c)
           g[(static_cast<std::size_t>(i) * M * M + j) * 3 + c] += q.weights[d] * y[i] * y[j] * w[c];
   }
-  std::vector<Coupling> out;
-  for (int i = 0; i < N * N; ++i)
-    for (int j = 0; j < M * M; ++j) {
-      const double* gij = &g[(static_cast<std::size_t>(i) * M * M + j) * 3];
-      if (std::abs(gij[0]) + std::abs(gij[1]) + std::abs(gij[2]) < 1e-6) continue;
-      out.push_back(
-          {static_cast<std::uint16_t>(i),
-           static_cast<std::uint16_t>(j),
-           {static_cast<float>(gij[0]), static_cast<float>(gij[1]), static_cast<float>(gij[2])}});
+  Couplings<N> out;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<std::vector<Coupling>> slots;
+    for (int i = 0; i < N * N; ++i) {
+      std::size_t k = 0;
+      for (int j = 0; j < M * M; ++j) {
+        const double gij = g[(static_cast<std::size_t>(i) * M * M + j) * 3 + c];
+        if (std::abs(gij) < 1e-6) continue;
+        if (slots.size() <= k) slots.emplace_back();
+        slots[k++].push_back({static_cast<std::uint16_t>(i), static_cast<std::uint16_t>(j),
+                              static_cast<float>(gij)});
+      }
     }
+    for (const auto& slot : slots) out.c[c].insert(out.c[c].end(), slot.begin(), slot.end());
+  }
   return out;
 }
 
@@ -70,17 +81,22 @@ template <int N>
 sh::Coeffs<N> exact_diffuse_transfer(const sh::Coeffs<N + 1>& visibility, const glm::vec3& normal) {
   assert(std::abs(glm::dot(normal, normal) - 1) < 1e-3f &&
          "exact_diffuse_transfer: normal not unit");
-  // [Meier13] eq. 4.20's integrand projected exactly (ours), not eq. 4.21's truncated product.
-  static const std::vector<Coupling> kG = couplings<N>();
-  sh::Coeffs<N> out{};
-  for (const Coupling& c : kG)
-    out[c.i] += (normal.x * c.g[0] + normal.y * c.g[1] + normal.z * c.g[2]) * visibility[c.j];
+  // [Meier13] eq. 4.20's integrand projected exactly (ours), not eq. 4.21's truncated product:
+  // out = n_x (G_x V) + n_y (G_y V) + n_z (G_z V).
+  static const Couplings<N> kG = couplings<N>();
+  sh::Coeffs<N> part[3] = {};
+  for (int c = 0; c < 3; ++c)
+    for (const Coupling& e : kG.c[c]) part[c][e.i] += e.g * visibility[e.j];
+  sh::Coeffs<N> out;
+  for (int i = 0; i < N * N; ++i)
+    out[i] = normal.x * part[0][i] + normal.y * part[1][i] + normal.z * part[2][i];
   return out;
 }
 
 template <int N>
 int exact_transfer_term_count() {
-  return static_cast<int>(couplings<N>().size());
+  const Couplings<N> g = couplings<N>();
+  return static_cast<int>(g.c[0].size() + g.c[1].size() + g.c[2].size());
 }
 
 AzimuthFrame::AzimuthFrame(int azimuths) {

@@ -33,7 +33,8 @@ sh::Coeffs<N> diffuse_transfer(const sh::Coeffs<N>& visibility, const glm::vec3&
 // proj_N(V max(0, n.w))). `normal` unit length (asserted in checked builds). N = 2..6.
 template <int N>
 sh::Coeffs<N> exact_diffuse_transfer(const sh::Coeffs<N + 1>& visibility, const glm::vec3& normal);
-// Its non-zero couplings G_ij (each 4 multiply-adds per call): an operation count for benchmarks.
+// Its non-zero coupling components (G_ij)_c (one multiply-add each per call, plus 3 N^2 to weigh
+// them by the normal): an operation count for benchmarks.
 template <int N>
 int exact_transfer_term_count();
 
