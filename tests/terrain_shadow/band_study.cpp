@@ -18,7 +18,10 @@
 //   linear      L_N . proj_N(V (n.w)): the cosine unclamped (what the new transfer would give
 //               without raising the horizon to the tangent plane);
 //   exact_L12   L_12 . proj_12(V max(0, n.w)): the truncation all but gone; what is left is the
-//               horizon model (sweep, linear interpolation across wedges) and reference noise.
+//               horizon model (sweep, linear interpolation across wedges) and reference noise;
+//   key_exact   the map's brightest source as a key light (issue 15: detect_light_sources, its
+//               texels blackened in the SH, TerrainShadowing::add_key_light) plus the rest of the
+//               map by the exact transfer at N bands: whether the zigzag is the sun's.
 // Run: build/<dir>/tests/terrain_shadow/terrain_band_study [scene ...]. Not a test: about 10 s per
 // scene in a release build.
 #include <tbb/parallel_for.h>
@@ -38,6 +41,7 @@
 #include "penumbra/sh/projection.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
+#include "penumbra/systems/environment/light_source_detection.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 #include "penumbra/systems/terrain_shadow/transfer.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
@@ -294,6 +298,36 @@ void study(std::string_view scene, std::string_view map_name, float rotation, in
   std::vector<glm::vec3> full(cells);
   for (std::size_t r = 0; r < rs.texels.size(); ++r)
     full[rs.texels[r]] = dense_dot(l, proj[r].vc, kL);
+  // The brightest source as a key light, the rest of the map in SH (as the system's
+  // EnvironmentSources::kKeyLights does at 4 bands).
+  {
+    environment::DetectionSettings ds;
+    ds.source_count = 1;
+    const environment::LightSourceDetection det = environment::detect_light_sources(map, ds);
+    if (!det.sources.empty()) {
+      const environment::DetectedSource& src = det.sources[0];
+      data::EnvironmentMap rest = map;
+      for (std::uint32_t t : src.texels)
+        for (int ch = 0; ch < 3; ++ch) rest.rgb[3 * static_cast<std::size_t>(t) + ch] = 0;
+      const DenseRgb lr = project_map(rest, rotation);
+      const float cr = std::cos(rotation), sr = std::sin(rotation);
+      const glm::vec3 d =
+          glm::normalize(glm::vec3(cr * src.direction.x - sr * src.direction.y,
+                                   sr * src.direction.x + cr * src.direction.y, src.direction.z));
+      std::vector<float> horizons;
+      ts4.key_light_horizons(d, horizons);
+      std::vector<glm::vec3> key(cells, glm::vec3(0.0f));
+      ts4.add_key_light(d, src.angular_radius, src.irradiance, horizons, key);
+      for (int n = 3; n <= kMaxBands; ++n) {
+        std::vector<glm::vec3> e(cells);
+        for (std::size_t r = 0; r < rs.texels.size(); ++r)
+          e[rs.texels[r]] = dense_dot(lr, proj[r].vc, n) + key[rs.texels[r]];
+        table.err[table.row("key_exact")][n] = compare(e, ref.texels, ref.environment).rel_rms;
+      }
+      std::printf("  (key light: %.1f deg up, radius %.2f deg, %.0f%% of the energy)\n",
+                  src.elevation_deg, src.angular_radius * 180 / kPi, 100 * src.energy_share);
+    }
+  }
   // The truncation alone: exact_N against exact_L12 (no horizon error, no reference noise).
   const std::vector<reference::RgbEstimate> converged = [&] {
     std::vector<reference::RgbEstimate> c(rs.texels.size());
