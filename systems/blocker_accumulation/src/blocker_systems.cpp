@@ -97,26 +97,36 @@ sh::CoeffsRgb<N> receiver_environment(ecs::World& w, std::vector<KeyLight>& keys
   return radiance;
 }
 
-// The key lights' irradiance at (p, n): the disc the blockers leave, times the share above the
-// terrain's horizon from p in the light's azimuth (terrain_shadow::ray_horizon).
+// The share of each key light's disc above the terrain's horizon seen from `at` (world) in its
+// azimuth (terrain_shadow::ray_horizon): per receiving entity at its origin, as its cast shadow
+// is ([Giraud] sec. 4.1), not per point.
+std::vector<float> key_light_terrain(std::span<const KeyLight> keys,
+                                     const components::Terrain* terrain, const glm::vec3& at) {
+  std::vector<float> share(keys.size(), 1.0f);
+  if (!terrain) return share;
+  const data::HeightField& f = *terrain->heights;
+  const glm::vec3 q = at - terrain->origin;
+  if (!(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z))) return share;
+  for (std::size_t j = 0; j < keys.size(); ++j) {
+    const float horizon = terrain_shadow::ray_horizon(
+        f, terrain->height_scale, glm::vec2(q.x, q.y) / f.cell_size, q.z, keys[j].phi,
+        std::numeric_limits<float>::infinity(), false);
+    share[j] = terrain_shadow::disc_share_above(
+        std::asin(std::clamp(keys[j].direction.z, -1.0f, 1.0f)) - horizon, keys[j].radius);
+  }
+  return share;
+}
+
+// The key lights' irradiance at (p, n): the disc the blockers leave times `terrain_share`.
 glm::vec3 key_light_irradiance(const BlockerAccumulation<N>& acc, std::span<const KeyLight> keys,
-                               const components::Terrain* terrain, const glm::vec3& p,
+                               std::span<const float> terrain_share, const glm::vec3& p,
                                const glm::vec3& n) {
   glm::vec3 e(0.0f);
-  for (const KeyLight& k : keys) {
+  for (std::size_t j = 0; j < keys.size(); ++j) {
+    const KeyLight& k = keys[j];
     const float c = glm::dot(n, k.direction);
-    if (!(c > 0)) continue;
-    float v = acc.key_light_visibility(p, k.direction, k.radius);
-    if (v > 0 && terrain) {
-      const data::HeightField& f = *terrain->heights;
-      const glm::vec3 at = p - terrain->origin;
-      const float horizon =
-          terrain_shadow::ray_horizon(f, terrain->height_scale, glm::vec2(at.x, at.y) / f.cell_size,
-                                      at.z, k.phi, std::numeric_limits<float>::infinity(), false);
-      v *= terrain_shadow::disc_share_above(
-          std::asin(std::clamp(k.direction.z, -1.0f, 1.0f)) - horizon, k.radius);
-    }
-    e += k.irradiance * (c * v);
+    if (!(c > 0) || !(terrain_share[j] > 0)) continue;
+    e += k.irradiance * (c * terrain_share[j] * acc.key_light_visibility(p, k.direction, k.radius));
   }
   return e;
 }
@@ -292,6 +302,7 @@ void shade(ecs::World& w) {
       [](const Item& it) { return it.r->points ? it.r->points->size() : std::size_t{0}; });
   for (const Item& it : now) {
     [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
+      const std::vector<float> key_share = key_light_terrain(keys, terrain, glm::vec3(t.world[3]));
       std::optional<sh::Coeffs<N>> cast;
       if (terrain) {
         const glm::vec3 at = glm::vec3(t.world[3]) - terrain->origin;
@@ -348,7 +359,7 @@ void shade(ecs::World& w) {
                                              *lobe, extra)
                        : (*irradiance)[i] * std::numbers::inv_pi_v<float>;
               if (!keys.empty()) {  // diffuse only: the lobe's highlight of a sun is not drawn
-                const glm::vec3 k = key_light_irradiance(acc, keys, terrain, p, nn);
+                const glm::vec3 k = key_light_irradiance(acc, keys, key_share, p, nn);
                 (*irradiance)[i] += k;
                 (*shown)[i] += k * std::numbers::inv_pi_v<float>;
               }

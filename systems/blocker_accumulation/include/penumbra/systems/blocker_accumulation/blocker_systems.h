@@ -68,7 +68,8 @@ struct BlockerSettingsResource {
   // The environment's sources (components/environment_light.h): kKeyLights shades each source
   // no wider than key_light_max_radius (radians) at the receivers as a key light, its disc
   // occluded by the blockers (BlockerAccumulation::key_light_visibility) and by the terrain's
-  // horizon from the receiver in its azimuth, and the rest of the map in SH ([Ambrosj16] ch. 4).
+  // horizon in its azimuth from the entity's origin (as its cast shadow), and the rest of the
+  // map in SH ([Ambrosj16] ch. 4).
   // The blockers' shadows on the terrain keep the whole map's SH.
   components::EnvironmentSources sources = components::EnvironmentSources::kKeyLights;
   float key_light_max_radius = 0.2f;
