@@ -479,6 +479,14 @@ void write_outputs(const pb::Results& r, const Outputs& o) {
       std::cout << "chart written to " << o.chart_path << "\n";
     else
       std::cerr << "bench_probe_bake: cannot write " << o.chart_path << "\n";
+    // The probe-count chart beside it: NAME.svg -> NAME_probes.svg.
+    std::string probes_path = o.chart_path;
+    const std::size_t dot = probes_path.rfind(".svg");
+    probes_path.insert(dot == std::string::npos ? probes_path.size() : dot, "_probes");
+    if (pb::write_atomically(probes_path, pbr::probes_chart(records)))
+      std::cout << "chart written to " << probes_path << "\n";
+    else
+      std::cerr << "bench_probe_bake: cannot write " << probes_path << "\n";
   }
 }
 

@@ -71,5 +71,8 @@ std::string records_json(const std::vector<Record>& records, const RunInfo& info
 // labelled with the probe count; and the chart (bake time, log, against rel. RMS error).
 std::vector<ChartPoint> chart_points(const std::vector<Record>& records);
 std::string chart(const std::vector<Record>& records);
+// The chart: probe count (log) against rel. RMS error, one series per method (the same
+// points, x the probes instead of the time); written beside the first as NAME_probes.svg.
+std::string probes_chart(const std::vector<Record>& records);
 
 }  // namespace penumbra::bench::probe_bake

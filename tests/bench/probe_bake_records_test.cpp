@@ -1,5 +1,5 @@
 // The probe_bake group's records and chart (probe_bake_records.h): the sweep's cases, the
-// Pareto front, the records file and the chart's points.
+// Pareto front, the records file and the charts' points.
 #include "probe_bake_records.h"
 
 #include <gtest/gtest.h>
@@ -125,6 +125,13 @@ TEST(ProbeBakeRecords, ChartHasOneSeriesPerMethodAndOnlySweepPoints) {
   EXPECT_NE(svg.find("BM_PlacementSweep/gradient_1m"), std::string::npos);
   EXPECT_EQ(count(svg, "stroke=\"black\" stroke-width=\"2\""), 1u);  // the default ringed
   EXPECT_EQ(svg.find("BM_Bake/room"), std::string::npos);
+  // The probe-count chart: the same points, its axis the probes.
+  r[1].probes = 312;
+  const std::string by_probes = pbr::probes_chart(r);
+  EXPECT_NE(by_probes.find("probes in the cloud (log)"), std::string::npos);
+  EXPECT_NE(by_probes.find("BM_PlacementSweep/grid_1m"), std::string::npos);
+  EXPECT_EQ(by_probes.find("BM_Bake/room"), std::string::npos);
+  EXPECT_NE(by_probes, svg);
 }
 
 }  // namespace
