@@ -499,7 +499,7 @@ def probe_bake_table(summary, rec):
                          f"{count(x['probes'])} | {err} | {fmt(x['dark_side'])} | {fmt(x['lit_side'])} | "
                          f"{place} | {fmt(x['ms'])} ms |")
         grids = [x for x in sweep if x["method"] == "grid"]
-        adaptive = [x for x in sweep if x["method"] != "grid"]
+        adaptive = [x for x in sweep if not x["method"].startswith("grid")]
         checks = []
         for g in grids:
             met = [a for a in adaptive if a["rel_rms_error"] is not None and g["rel_rms_error"] is not None

@@ -256,11 +256,11 @@ void BM_PlacementSweep(benchmark::State& state, pbr::SweepCase c) {
   settings.samples = pbr::kSweepSamples;
   settings.spacing = c.spacing;
   settings.validity = true;
-  settings.edge_rays.enabled = false;
-  if (c.method == "spawn-merge") {
+  settings.edge_rays.enabled = c.edge_rays;
+  if (c.method.starts_with("spawn-merge")) {
     settings.placement = bake::PlacementMethod::kSpawnMerge;
     settings.spawn_merge.spawn_contrast = c.spawn;
-  } else if (c.method == "gradient") {
+  } else if (c.method.starts_with("gradient")) {
     settings.placement = bake::PlacementMethod::kGradient;
   }
   penumbra::data::ProbeCloud cloud;
@@ -431,7 +431,7 @@ std::vector<pbr::Record> collect(const pb::Results& r) {
                                         {"spawn_contrast", c.spawn > 0 ? compact(c.spawn) : "null"},
                                         {"samples", std::to_string(pbr::kSweepSamples)},
                                         {"validity", "true"},
-                                        {"edge_rays", "false"}}));
+                                        {"edge_rays", c.edge_rays ? "true" : "false"}}));
     if (!rec) continue;
     const auto counter = [&](const char* name) -> std::optional<double> {
       auto it = rec->counters.find(name);

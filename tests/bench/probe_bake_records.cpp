@@ -39,6 +39,13 @@ const std::vector<SweepCase>& sweep_cases() {
            "spawn-merge", start, spawn});
     for (float s : {1.5f, 1.0f, 0.75f})
       out.push_back({"BM_PlacementSweep/gradient_" + compact(s) + "m", "gradient", s, 0});
+    // Adaptive placement combined with edge rays (and the grid with them, for comparison).
+    out.push_back({"BM_PlacementSweep/grid_1.5m/edge_rays", "grid + edge rays", 1.5f, 0, true});
+    out.push_back({"BM_PlacementSweep/spawn_merge_2m/spawn:0.7/edge_rays",
+                   "spawn-merge + edge rays", 2.0f, 0.7f, true});
+    for (float s : {1.5f, 1.0f})
+      out.push_back({"BM_PlacementSweep/gradient_" + compact(s) + "m/edge_rays",
+                     "gradient + edge rays", s, 0, true});
     return out;
   }();
   return cases;

@@ -18,10 +18,11 @@ namespace penumbra::bench::probe_bake {
 // RoomAccuracy.ErrorVersusProbeCount): a uniform grid, spawn and merge from a start grid at a
 // spawn threshold, or gradient ascent from a start grid.
 struct SweepCase {
-  std::string key;     // Google Benchmark name, "BM_PlacementSweep/..."
-  std::string method;  // "grid", "spawn-merge", "gradient"
-  float spacing = 0;   // grid spacing or the adaptive methods' start grid, m
-  float spawn = 0;     // spawn-merge's spawn contrast threshold (0: not spawn-merge)
+  std::string key;         // Google Benchmark name, "BM_PlacementSweep/..."
+  std::string method;      // "grid", "spawn-merge", "gradient"
+  float spacing = 0;       // grid spacing or the adaptive methods' start grid, m
+  float spawn = 0;         // spawn-merge's spawn contrast threshold (0: not spawn-merge)
+  bool edge_rays = false;  // edge rays after the placement ([Sukys14] sec. 3.2.2, default rounds)
 };
 
 // Bake settings of every sweep point (as the accuracy test): 512 samples, validity on, edge
@@ -31,7 +32,8 @@ inline constexpr int kSweepSamples = 512;
 inline constexpr int kSweepRepetitions = 3;
 
 // grid 2, 1.5, 1, 0.75 m; spawn-merge from 2 m (spawn 0.7, 0.5) and 1 m (0.9, 0.7); gradient
-// from 1.5, 1, 0.75 m.
+// from 1.5, 1, 0.75 m; with edge rays after it ("METHOD + edge rays"): grid 1.5 m, spawn-merge
+// from 2 m (0.7), gradient from 1.5 and 1 m (the leaky ones).
 const std::vector<SweepCase>& sweep_cases();
 
 // One record: a Google Benchmark case of the group or a sweep point.

@@ -32,22 +32,25 @@ pbr::Record sweep(const std::string& key, const std::string& method, double ms, 
 
 TEST(ProbeBakeRecords, SweepCasesAreTheAccuracyTestsMethods) {
   const auto& cases = pbr::sweep_cases();
-  ASSERT_EQ(cases.size(), 11u);
+  ASSERT_EQ(cases.size(), 15u);
   std::set<std::string> keys;
-  int grid = 0, spawn = 0, gradient = 0;
+  int grid = 0, spawn = 0, gradient = 0, edges = 0;
   for (const pbr::SweepCase& c : cases) {
     keys.insert(c.key);
     EXPECT_EQ(c.key.rfind("BM_PlacementSweep/", 0), 0u) << c.key;
     EXPECT_GT(c.spacing, 0) << c.key;
-    EXPECT_EQ(c.spawn > 0, c.method == "spawn-merge") << c.key;
+    EXPECT_EQ(c.spawn > 0, c.method.starts_with("spawn-merge")) << c.key;
+    EXPECT_EQ(c.edge_rays, c.method.ends_with(" + edge rays")) << c.key;
     grid += c.method == "grid";
     spawn += c.method == "spawn-merge";
     gradient += c.method == "gradient";
+    edges += c.edge_rays;
   }
   EXPECT_EQ(keys.size(), cases.size());  // unique keys
   EXPECT_EQ(grid, 4);
   EXPECT_EQ(spawn, 4);
   EXPECT_EQ(gradient, 3);
+  EXPECT_EQ(edges, 4);
   EXPECT_TRUE(keys.count("BM_PlacementSweep/grid_0.75m"));
   EXPECT_TRUE(keys.count("BM_PlacementSweep/spawn_merge_1m/spawn:0.7"));
 }
