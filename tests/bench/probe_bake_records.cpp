@@ -131,20 +131,30 @@ std::vector<ChartPoint> chart_points(const std::vector<Record>& records) {
   return pts;
 }
 
-std::string chart(const std::vector<Record>& records) {
+namespace {
+// What both charts share: the sweep's error axis, legend, notes and the default ringed.
+ChartSpec sweep_spec(std::string title, std::string x_label) {
   ChartSpec spec;
-  spec.title = "Probe bake, room: placement methods, bake time against accuracy";
+  spec.title = std::move(title);
   spec.subtitle =
       "interpolated irradiance vs the reference integrator (120 free-space points x 6 normals); "
-      "512 samples, validity on, edge rays off";
-  spec.x_label = "bake wall time (placement + capture + validity + tetrahedralization), ms (log)";
+      "512 samples, validity on, edge rays as named";
+  spec.x_label = std::move(x_label);
   spec.y_label = "relative RMS irradiance error vs reference, %";
   spec.empty_text = "no sweep points in this run";
   spec.legend_title = "placement";
   spec.best_note = "ringed: the room's default (grid 1 m)";
   spec.notes = {"labels: start spacing[/spawn", "threshold], probes"};
   spec.ringed.push_back(kDefaultKey);
-  return chart_svg(spec, chart_points(records));
+  return spec;
+}
+}  // namespace
+
+std::string chart(const std::vector<Record>& records) {
+  return chart_svg(
+      sweep_spec("Probe bake, room: placement methods, bake time against accuracy",
+                 "bake wall time (placement + capture + validity + tetrahedralization), ms (log)"),
+      chart_points(records));
 }
 
 std::string probes_chart(const std::vector<Record>& records) {
@@ -154,19 +164,9 @@ std::string probes_chart(const std::vector<Record>& records) {
       if (r.key == p.key && r.probes) p.ms = *r.probes;  // x: probes
     pts.push_back(std::move(p));
   }
-  ChartSpec spec;
-  spec.title = "Probe bake, room: error against probe count per placement method";
-  spec.subtitle =
-      "interpolated irradiance vs the reference integrator (120 free-space points x 6 normals); "
-      "512 samples, validity on, edge rays off";
-  spec.x_label = "probes in the cloud (log)";
-  spec.y_label = "relative RMS irradiance error vs reference, %";
-  spec.empty_text = "no sweep points in this run";
-  spec.legend_title = "placement";
+  ChartSpec spec = sweep_spec("Probe bake, room: error against probe count per placement method",
+                              "probes in the cloud (log)");
   spec.front_note = "dashed grey: fewest probes for the error";
-  spec.best_note = "ringed: the room's default (grid 1 m)";
-  spec.notes = {"labels: start spacing[/spawn", "threshold], probes"};
-  spec.ringed.push_back(kDefaultKey);
   return chart_svg(spec, pts);
 }
 

@@ -62,29 +62,40 @@ TEST(RadianceSh, UniformSkyGivesDcOnly) {
   }
 }
 
-// A probe 1 m under a 4 km plane of albedo a under a uniform sky L: the plane's underside sees
-// the lower sky (E = pi L), so L_1 = a L above and L below (the plane's missing rim: < 1e-6 sr).
-TEST(RadianceSh, UnderAnAlbedoPlane) {
+// A uniform sky of radiance 1 and a 4 km plane of albedo (0.5, 0.25, 0.8) 1 m above the origin.
+constexpr glm::vec3 kPlaneAlbedo(0.5f, 0.25f, 0.8f);
+SceneDesc albedo_plane_scene() {
   SceneDesc d;
   d.environment = EnvironmentLight{constant_map(64, 32, glm::vec3(1.0f))};
   MeshInstance plane{quad(2000.0f, 1.0f)};
-  plane.albedo = glm::vec3(0.5f, 0.25f, 0.8f);
+  plane.albedo = kPlaneAlbedo;
   d.meshes.push_back(plane);
-  const Scene scene(d);
+  return d;
+}
+
+// Every coefficient of `e` against the projection of a above and `below` under the plane, to
+// four standard errors.
+void expect_plane_radiance(const RadianceShEstimate<3>& e, double below) {
+  for (int c = 0; c < 3; ++c) {
+    const double a = kPlaneAlbedo[c];
+    const sh::Coeffs<3> exact =
+        quadrature<3>([a, below](const glm::vec3& w) { return w.z > 0 ? a : below; });
+    for (int i = 0; i < 9; ++i)
+      EXPECT_LE(std::fabs(e.mean[c][i] - exact[i]), 4 * e.std_error[c][i] + 2e-3)
+          << "channel " << c << " coefficient " << i << " estimate " << e.mean[c][i] << " exact "
+          << exact[i] << " std error " << e.std_error[c][i];
+  }
+}
+
+// A probe 1 m under a 4 km plane of albedo a under a uniform sky L: the plane's underside sees
+// the lower sky (E = pi L), so L_1 = a L above and L below (the plane's missing rim: < 1e-6 sr).
+TEST(RadianceSh, UnderAnAlbedoPlane) {
+  const Scene scene(albedo_plane_scene());
   const std::vector<glm::vec3> p = {{0, 0, 0}};
   RadianceShOptions o;
   o.samples = 2048;
   const auto e = radiance_sh<3>(scene, p, o)[0];
-  for (int c = 0; c < 3; ++c) {
-    const double a = plane.albedo[c];
-    const sh::Coeffs<3> exact =
-        quadrature<3>([a](const glm::vec3& w) { return w.z > 0 ? a : 1.0; });
-    for (int i = 0; i < 9; ++i) {
-      EXPECT_LE(std::fabs(e.mean[c][i] - exact[i]), 4 * e.std_error[c][i] + 2e-3)
-          << "channel " << c << " coefficient " << i << " estimate " << e.mean[c][i] << " exact "
-          << exact[i] << " std error " << e.std_error[c][i];
-    }
-  }
+  expect_plane_radiance(e, 1.0);
   EXPECT_GE(e.dof, 30u);
   EXPECT_GT(e.hits, 900u);
   EXPECT_GT(e.rays, e.samples);
@@ -94,27 +105,14 @@ TEST(RadianceSh, UnderAnAlbedoPlane) {
 // reflection remains, a L above and nothing below; a light the probe sees directly adds nothing
 // (no occluder reflects it), and fewer rays are cast than by the full capture.
 TEST(RadianceSh, BounceAloneLeavesOnlyTheReflection) {
-  SceneDesc d;
-  d.environment = EnvironmentLight{constant_map(64, 32, glm::vec3(1.0f))};
-  MeshInstance plane{quad(2000.0f, 1.0f)};
-  plane.albedo = glm::vec3(0.5f, 0.25f, 0.8f);
-  d.meshes.push_back(plane);
-  const Scene scene(d);
+  const Scene scene(albedo_plane_scene());
   const std::vector<glm::vec3> p = {{0, 0, 0}};
   RadianceShOptions o;
   o.samples = 2048;
   const auto full = radiance_sh<3>(scene, p, o)[0];
   o.direct = false;
   const auto e = radiance_sh<3>(scene, p, o)[0];
-  for (int c = 0; c < 3; ++c) {
-    const double a = plane.albedo[c];
-    const sh::Coeffs<3> exact =
-        quadrature<3>([a](const glm::vec3& w) { return w.z > 0 ? a : 0.0; });
-    for (int i = 0; i < 9; ++i)
-      EXPECT_LE(std::fabs(e.mean[c][i] - exact[i]), 4 * e.std_error[c][i] + 2e-3)
-          << "channel " << c << " coefficient " << i << " estimate " << e.mean[c][i] << " exact "
-          << exact[i];
-  }
+  expect_plane_radiance(e, 0.0);
   EXPECT_LT(e.rays, full.rays);
   // A light in the open: nothing reflects it, so nothing arrives.
   SceneDesc dl;
