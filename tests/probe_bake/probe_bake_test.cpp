@@ -15,6 +15,7 @@
 #include "penumbra/reference/estimators.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_cloud/probe_tet_walk.h"
+#include "room_accuracy_points.h"
 
 namespace penumbra::probe_bake {
 namespace {
@@ -181,72 +182,14 @@ TEST(ProbeBake, Bands) {
 // integrator (direct + one bounce) at random free points of the room, six axis normals each,
 // per grid spacing; and the leak metric at points within one spacing of the inner wall on its
 // dark (+x) side, with and without validity. Prints the table of docs/probe_bake.md.
-struct Errors {
-  double all = 0, leak = 0;
-};
-
-double irradiance(const probe_cloud::ProbeSh& e, const glm::vec3& n, int c) {
-  const auto y = sh::eval_basis<probe_cloud::kProbeShBands>(n);
-  double v = 0;
-  for (std::size_t i = 0; i < y.size(); ++i) v += e[c][i] * y[i];
-  return v;
-}
-
 TEST(ProbeBakeAccuracy, RoomErrorVersusSpacing) {
   const BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
   const reference::Scene traced(s.desc);
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<float> ux(-4.6f, 4.6f), uy(-3.6f, 3.6f), uz(0.3f, 3.7f);
-  std::vector<glm::vec3> free, leak;
-  while (free.size() < 120) {
-    const glm::vec3 p(ux(rng), uy(rng), uz(rng));
-    bool clear = !s.inside(p);
-    for (float d : {0.1f, -0.1f})
-      for (int k = 0; k < 3; ++k) {
-        glm::vec3 q = p;
-        q[k] += d;
-        clear = clear && !s.inside(q);
-      }
-    if (clear) free.push_back(p);
-  }
-  // Within one (1 m) spacing of the inner wall (|x| < 0.15, y < 2): the dark side (+x, away from
-  // the lamp) and the lit side (-x, the lamp's).
-  std::uniform_real_distribution<float> lx(0.25f, 1.0f), ly(-3.6f, 1.5f);
-  std::vector<glm::vec3> lit;
-  while (leak.size() < 60) leak.emplace_back(lx(rng), ly(rng), uz(rng));
-  while (lit.size() < 60) lit.emplace_back(-lx(rng), ly(rng), uz(rng));
-  const glm::vec3 normals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
-                                {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
-  auto reference_values = [&](const std::vector<glm::vec3>& pts) {
-    std::vector<reference::Receiver> rec;
-    for (const glm::vec3& p : pts)
-      for (const glm::vec3& n : normals) rec.push_back({p, n});
-    reference::LightOptions lo;
-    lo.samples = 256;
-    reference::BounceOptions bo;
-    bo.samples = 1024;
-    const auto l = reference::light_irradiance(traced, rec, lo);
-    const auto b = reference::indirect_irradiance(traced, rec, bo);
-    std::vector<glm::vec3> out;
-    for (std::size_t i = 0; i < rec.size(); ++i) out.push_back(reference::combine(l[i], b[i]).mean);
-    return out;
-  };
-  const auto ref_free = reference_values(free), ref_leak = reference_values(leak),
-             ref_lit = reference_values(lit);
-  auto error = [&](const data::ProbeCloud& cloud, const std::vector<glm::vec3>& pts,
-                   const std::vector<glm::vec3>& ref) {
-    const probe_cloud::ProbeTetWalk walk(std::make_shared<const data::ProbeCloud>(cloud));
-    double num = 0, den = 0;
-    for (std::size_t i = 0; i < pts.size(); ++i) {
-      const probe_cloud::ProbeSh e = walk.interpolate(walk.locate(pts[i], -1));
-      for (int k = 0; k < 6; ++k)
-        for (int c = 0; c < 3; ++c) {
-          const double d = irradiance(e, normals[k], c) - ref[i * 6 + k][c];
-          num += d * d;
-          den += double(ref[i * 6 + k][c]) * ref[i * 6 + k][c];
-        }
-    }
-    return std::sqrt(num / den);
+  // The free-space points, and within one (1 m) spacing of the inner wall its dark side (+x,
+  // away from the lamp) and its lit side (room_accuracy_points.h).
+  const auto sets = accuracy::room_point_sets(s, traced);
+  const auto error = [&](const data::ProbeCloud& cloud, accuracy::RoomSet set) {
+    return accuracy::set_error(cloud, sets[set]);
   };
   // Validity off; on with one-sided virtual offsets; on with both sides (the default).
   std::printf(
@@ -268,9 +211,9 @@ TEST(ProbeBakeAccuracy, RoomErrorVersusSpacing) {
     c[2] = bake_probe_cloud(s, traced, b, &r[2]);
     double e[3][3];
     for (int k = 0; k < 3; ++k) {
-      e[0][k] = error(c[k], free, ref_free);
-      e[1][k] = error(c[k], leak, ref_leak);
-      e[2][k] = error(c[k], lit, ref_lit);
+      e[0][k] = error(c[k], accuracy::kFree);
+      e[1][k] = error(c[k], accuracy::kDarkSide);
+      e[2][k] = error(c[k], accuracy::kLitSide);
       EXPECT_TRUE(r[k].valid_cloud);
     }
     std::printf(
