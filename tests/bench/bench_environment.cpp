@@ -4,10 +4,13 @@
 //  - the OEM build for n = 1, 2, 3 sources at each size (a synthetic sky with three discs,
 //    detection done before timing), against 003's way, one projection per OEM: 2^n x the time
 //    of one sh::project_equirect<kDefaultBands> of the whole map (measured as BM_Project);
-//  - BM_Luminance: the luminance pass alone (eq. 3.1), the detection's O(n) floor.
+//  - BM_Luminance: the luminance pass alone (eq. 3.1), the detection's O(n) floor;
+//  - BM_TerrainKeyLights: the sources as the terrain's key lights against the map's SH alone,
+//    time and error against the reference (environment_key_lights.h; --records_out, --chart_out).
 //
 //   build/release/tests/bench/bench_environment --benchmark_out=build/bench/environment.json
 //       --benchmark_out_format=json --summary_out=build/bench/environment_summary.json
+//       --records_out=build/bench/environment.json --chart_out=build/bench/environment.svg
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -20,6 +23,7 @@
 #include <glm/geometric.hpp>
 
 #include "bench_registry.h"
+#include "environment_key_lights.h"
 #include "penumbra/assets/exr.h"
 #include "penumbra/sh/projection.h"
 #include "penumbra/systems/environment/environment_prefilter.h"
@@ -164,5 +168,18 @@ pb::Summary summarize(const pb::Results& r) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  return pb::run_group(argc, argv, "environment", register_benchmarks, summarize);
+  const std::string records = pb::take_flag(argc, argv, "records_out");
+  const std::string chart = pb::take_flag(argc, argv, "chart_out");
+  return pb::run_group(
+      argc, argv, "environment",
+      [] {
+        register_benchmarks();
+        pb::environment_keys::register_benchmarks();
+      },
+      [&](const pb::Results& r) {
+        pb::Summary s = summarize(r);
+        pb::environment_keys::summarize(r, s);
+        pb::environment_keys::write_outputs(r, records, chart);
+        return s;
+      });
 }

@@ -4,8 +4,8 @@
 // map as SH alone (n = 0, the sun blurred into 4 bands and its shadow soft) and the map without
 // its n brightest sources in SH plus each source as a key light shadowed by the terrain's
 // horizon in its azimuth (n = 1, 2, 3: as many as are found). Printed per scene and map;
-// asserted: with sky.exr's high sun the error halves from n = 0 to n = 1, with sunset.exr's low
-// one it does not grow.
+// asserted: with sky.exr's high sun and sunrise.exr's low one the error halves from n = 0 to
+// n = 1, with sunset.exr's (on the horizon, faint) it does not grow.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -53,7 +53,7 @@ std::vector<glm::vec3> method(const terrain_shadow::TerrainShadowing<kN>& ts,
 }
 
 TEST(KeyLightAccuracy, SourcesAsKeyLightsAgainstShAlone) {
-  for (const char* map_name : {"sky", "sunset"}) {
+  for (const char* map_name : {"sky", "sunset", "sunrise"}) {
     components::EnvironmentLight env;
     env.map = std::make_shared<const data::EnvironmentMap>(load_hdri(map_name));
     environment::DetectionSettings ds;
@@ -80,9 +80,10 @@ TEST(KeyLightAccuracy, SourcesAsKeyLightsAgainstShAlone) {
         }
       }
       // sky.exr: a high sun with half the map's energy; measured 3.0% -> 1.1% (the reference's
-      // own noise 0.93% included). sunset.exr: a low sun with less of the energy; measured
+      // own noise 0.93% included). sunrise.exr (the main job's): an 8-degree sun, long shadows;
+      // 13.8% / 12.7% -> 5.3% / 5.0%. sunset.exr: a sun on the horizon with 1.4% of the energy;
       // 2.75-3.00% -> 2.75-2.94%: no worse.
-      if (std::string(map_name) == "sky") {
+      if (std::string(map_name) != "sunset") {
         EXPECT_LT(rms[1], 0.5 * rms[0]) << scene;
       } else {
         EXPECT_LT(rms[1], rms[0] + 0.002) << scene;
