@@ -224,8 +224,14 @@ void sweep_direction_horizons(const data::HeightField& field, const HorizonParam
                                 ": sweep_direction_horizons needs a finite azimuth and no limit");
   out.assign(region.count(), 0.0f);
   if (region.empty()) return;
+#ifdef __AVX2__
+  const detail::LaneFields fields(field);  // eight lines per step, as sweep_horizons
+  detail::LaneScratch lanes;
+  detail::sweep_direction_lanes(field, fields, params, region, phi, lanes, out.data());
+#else
   Scratch sc;
   sweep_direction(field, params, region, phi, sc, out.data());  // [Timonen10] sec. 4
+#endif
 }
 
 std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,

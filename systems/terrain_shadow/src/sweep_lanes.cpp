@@ -42,8 +42,8 @@ struct Sweep {
   bool clamp;
   float scale;
 
-  Sweep(const data::HeightField& f, const LaneFields& fields, const HorizonParams& p, int k)
-      : frame(f, azimuth_angle(k, p.azimuths)),
+  Sweep(const data::HeightField& f, const LaneFields& fields, const HorizonParams& p, double phi)
+      : frame(f, phi),
         heights(frame.x_major ? fields.x_major.data() : fields.y_major.data()),
         stride(frame.x_major ? fields.stride_x : fields.stride_y),
         bmax(frame.minor_size - 1),
@@ -196,7 +196,13 @@ void scatter(LaneScratch& sc, std::size_t records, int u0, int v0, int v1, int r
 void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
                          const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
                          float* plane) {
-  const Sweep sw(f, fields, p, k);
+  sweep_direction_lanes(f, fields, p, r, azimuth_angle(k, p.azimuths), sc, plane);
+}
+
+void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
+                           const HorizonParams& p, const TexelRect& r, double phi, LaneScratch& sc,
+                           float* plane) {
+  const Sweep sw(f, fields, p, phi);
   const AzimuthFrame& frame = sw.frame;
   const int u0 = frame.x_major ? r.x0 : r.y0, u1 = frame.x_major ? r.x1 : r.y1;
   const int v0 = frame.x_major ? r.y0 : r.x0, v1 = frame.x_major ? r.y1 : r.x1;
@@ -224,7 +230,7 @@ void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed) {
-  const Sweep sw(f, fields, p, k);
+  const Sweep sw(f, fields, p, azimuth_angle(k, p.azimuths));
   const AzimuthFrame& frame = sw.frame;
   // The edit box in (major, minor), widened by one sample (lines interpolate between rows).
   const int ua = std::max((frame.x_major ? edited.x0 : edited.y0) - 1, 0);

@@ -38,6 +38,10 @@ struct LaneScratch {
 void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
                          const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
                          float* plane);
+// The same along any azimuth phi (radians): a key light's horizons (sweep_direction_horizons).
+void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
+                           const HorizonParams& p, const TexelRect& r, double phi, LaneScratch& sc,
+                           float* plane);
 
 // Recomputes azimuth k of every texel whose sweep lines pass within a sample of `edited`,
 // exactly as a full sweep_horizons would, writing `out` (sized to the field) and setting

@@ -466,7 +466,9 @@ void TerrainShadowing<N>::add_key_light(const glm::vec3& direction, float angula
     for (std::size_t i = i0; i < i1; ++i) {
       const float c = glm::dot(normals_[i], direction);
       if (!(c > 0)) continue;
-      out[i] += irradiance * (c * disc_share_above(elevation - horizons[i], a));
+      const float above = elevation - horizons[i];  // most texels see all of it or none
+      const float f = above >= a ? 1.0f : (above <= -a ? 0.0f : disc_share_above(above, a));
+      if (f > 0) out[i] += irradiance * (c * f);
     }
   });
 }

@@ -33,8 +33,8 @@ void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out);
 
 // Horizons of the texels of `region` along one azimuth `phi` (radians, any finite value), by
-// the same lines, hull and interpolation as sweep_horizons' azimuths (the scalar kernel, one
-// line at a time): a directional light's shadow. `out` gets region.count() angles, row-major
+// the same lines, hull and interpolation as sweep_horizons' azimuths (its kernel: eight lines per
+// step on AVX2): a directional light's shadow. `out` gets region.count() angles, row-major
 // (x fastest). O(field) for one direction. Throws as sweep_horizons, and for a non-finite phi.
 void sweep_direction_horizons(const data::HeightField& field, const HorizonParams& params,
                               double phi, const TexelRect& region, std::vector<float>& out);
