@@ -23,8 +23,8 @@
 #include "penumbra/data/height_field.h"
 #include "penumbra/render/packet.h"
 #include "penumbra/sh/projection.h"
-#include "penumbra/systems/environment/environment_light_update.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
+#include "penumbra/systems/environment/environment_systems.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "penumbra/systems/spherical_lights/spherical_light_systems.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
@@ -219,12 +219,13 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   env.map = map;
   env.radiance = sh::project_equirect<sh::kDefaultBands>(map->rgb.data(), map->width, map->height);
   env.version = 1;
-  // The map's sun (and any other bright source) found once: the terrain shades it as a key
-  // light with its exact horizon, the rest of the map in SH (issue 15; terrain_shadow_systems.h).
+  // The map's sun (and any other bright source), found by environment.sources on the first
+  // frame: the terrain shades it as a key light with its exact horizon, the rest of the map in
+  // SH (issue 15; terrain_shadow_systems.h).
   if (config.environment_sources > 0) {
     environment::DetectionSettings detection;
     detection.source_count = config.environment_sources;
-    environment::update_environment_light(env, detection);
+    environment::emplace_environment_resources(world, detection);
   }
 
   const float half = 0.5f * field->cell_size * (field->width - 1);
@@ -252,6 +253,7 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
   s.add_task("demo_animate", [config](jobs::SystemContext& ctx) { animate(ctx.world(), config); })
       .reads<FrameTime>()
       .writes<EnvironmentLight, SphericalLight, Terrain, systems::RenderSettings>();
+  if (config.environment_sources > 0) environment::add_environment_systems(s);
   s.add_task("demo_camera", [](jobs::SystemContext& ctx) { orbit(ctx.world()); })
       .reads<FrameTime, Terrain, DemoCameraMode, Boulder, components::Transform,
              components::Reflector>()

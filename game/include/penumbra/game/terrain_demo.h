@@ -9,6 +9,8 @@
 //   demo_clock        writes FrameTime (fixed 1/30 s steps: headless runs are reproducible)
 //   demo_animate      reads FrameTime, writes EnvironmentLight (rotation), SphericalLight
 //                     (path), Terrain (brush edits), RenderSettings (sky rotation)
+//   environment.sources (systems/environment: the map's sun found on the first frame, when
+//                     environment_sources > 0; the terrain and the boulders take it as a key light)
 //   demo_camera       reads FrameTime, Terrain, writes Camera (slow orbit)
 //   demo_boulders     reads FrameTime, Terrain, Boulder, writes Transform (boulders.h)
 //   demo_probe_floaters, demo_probe_sky, probes.prepare, probes.walk, demo_probe_shade,
