@@ -477,7 +477,7 @@ def probe_bake_table(summary, rec):
         lines += [
             "",
             f"Placement sweep in the room (each point baked with {p0['samples']} samples, validity "
-            f"{'on' if p0['validity'] else 'off'}, edge rays {'on' if p0['edge_rays'] else 'off'}; "
+            f"{'on' if p0['validity'] else 'off'}, edge rays only where the method names them; "
             f"bake: its wall time, median of {rec.get('sweep_repetitions', 1)}, placement: the adaptive placement in it; rel. RMS over "
             "the 120 free-space points of the accuracy tests, dark / lit side: over the 60 points on "
             "each side of the inner wall (dark: the leak metric); reference computed once in "

@@ -11,8 +11,8 @@
 //  - the placement sweep, speed against accuracy ([Sukys14] sec. 3.1; the cases of the test
 //    RoomAccuracy.ErrorVersusProbeCount, probe_bake_records.h): the room baked per method (grid
 //    2-0.75 m, spawn-merge from 2 and 1 m, gradient from 1.5-0.75 m; 512 samples, validity on,
-//    edge rays off), timed (bake wall time, placement time), its interpolated irradiance against
-//    the reference integrator at the accuracy tests' points (tests/probe_bake/
+//    edge rays where the case names them), timed (bake wall time, placement time), its interpolated
+//    irradiance against the reference integrator at the accuracy tests' points (tests/probe_bake/
 //    room_accuracy_points.h; reference values computed once per run): rel. RMS error in free
 //    space, the dark-side leak metric, the lit side, probes.
 // --records_out writes one JSON record per case and per sweep point, --chart_out the sweep's
@@ -450,7 +450,8 @@ void write_outputs(const pb::Results& r, const Outputs& o) {
   const std::vector<pbr::Record> records = collect(r);
   if (g_reference_seconds >= 0) {  // the sweep ran: its table on stdout
     std::printf(
-        "\nplacement sweep (room, %d samples, validity on, edge rays off; reference %.1f s):\n",
+        "\nplacement sweep (room, %d samples, validity on, edge rays as named; reference %.1f "
+        "s):\n",
         pbr::kSweepSamples, g_reference_seconds);
     std::printf("%-44s %7s %8s %8s %8s %10s %9s\n", "case", "probes", "rel_rms", "dark", "lit",
                 "place_ms", "bake_ms");

@@ -76,7 +76,8 @@ std::string records_json(const std::vector<Record>& records, const RunInfo& info
     << ",\n  \"sweep_repetitions\": " << kSweepRepetitions
     << ",\n  \"reference_seconds\": " << jnum(info.reference_seconds, 4)
     << ",\n  \"sweep\": \"room (scenes/room.json); each point baked with " << kSweepSamples
-    << " samples, validity on, edge rays off, the ray tracer built once (bake_probe_cloud with a "
+    << " samples, validity on, edge rays only in the \"+ edge rays\" methods, the ray tracer built "
+       "once (bake_probe_cloud with a "
        "reference::Scene); ms: the bake's wall time, placement_ms: the adaptive placement in it "
        "(its captures included)\""
     << ",\n  \"reference\": \"the accuracy tests' points "
