@@ -25,13 +25,32 @@ layout(set = 0, binding = 1) uniform sampler2D environment;
 layout(location = 0) in vec3 v_ray;
 layout(location = 0) out vec4 out_color;
 const float kPi = 3.14159265358979;
+
+// atan(y, x) to within 1e-5 rad (a minimax polynomial on [0, 1] and the octant symmetries) and
+// acos(x) to within 7e-5 rad (Abramowitz and Stegun 4.4.45): 0.002 and 0.02 texel of a
+// 2048 x 1024 map, and cheaper on lavapipe than GLSL's atan and acos (docs/play.md).
+float fast_atan2(float y, float x) {
+  float ax = abs(x), ay = abs(y);
+  float a = min(ax, ay) / max(max(ax, ay), 1e-30);
+  float s = a * a;
+  float r = ((-0.0464964749 * s + 0.15931422) * s - 0.327622764) * s * a + a;
+  r = ay > ax ? 0.5 * kPi - r : r;
+  r = x < 0.0 ? kPi - r : r;
+  return y < 0.0 ? -r : r;
+}
+float fast_acos(float x) {
+  float ax = min(abs(x), 1.0);
+  float r = sqrt(1.0 - ax) * (((-0.0187293 * ax + 0.0742610) * ax - 0.2121144) * ax + 1.5707288);
+  return x < 0.0 ? kPi - r : r;
+}
+
 void main() {
   vec3 dir = normalize(v_ray);
   vec3 c;
   if (kVariant == 1) {
-    float u = (atan(dir.y, dir.x) - camera.params.w) / (2.0 * kPi);
+    float u = (fast_atan2(dir.y, dir.x) - camera.params.w) / (2.0 * kPi);
     u -= floor(u);
-    float v = acos(clamp(dir.z, -1.0, 1.0)) / kPi;
+    float v = fast_acos(dir.z) / kPi;
     c = textureLod(environment, vec2(u, v), 0.0).rgb * camera.params.z;
   } else {
     c = procedural_sky(dir, true);
