@@ -45,6 +45,7 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 #include "penumbra/systems/terrain_shadow/transfer.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
+#include "sh_any.h"  // systems/terrain_shadow/src: the library's internal any-band basis
 #include "terrain_reference.h"
 
 namespace penumbra::terrain_reference {
@@ -57,40 +58,9 @@ constexpr int kMaxBands = 8;
 constexpr float kRotation = 0.7f;
 constexpr double kPi = std::numbers::pi;
 
-// Real SH of the library's convention (basis.h: no Condon-Shortley phase, y_1^-1 ~ +y), any band.
+// Real SH of the library's convention at kL bands (sh_any.h, the exact transfer's own).
 void eval_sh(double x, double y, double z, double* out) {
-  static const auto norm = [] {
-    std::array<double, kC> k{};
-    for (int l = 0; l < kL; ++l)
-      for (int m = 0; m <= l; ++m) {
-        double r = 1;  // (l - m)! / (l + m)!
-        for (int i = l - m + 1; i <= l + m; ++i) r /= i;
-        k[sh::index(l, m)] = std::sqrt((2 * l + 1) / (4 * kPi) * r) * (m ? std::sqrt(2.0) : 1.0);
-      }
-    return k;
-  }();
-  const double s = std::sqrt(std::max(0.0, 1 - z * z));
-  const double phi = std::atan2(y, x);
-  double pmm = 1;  // P_m^m without the phase: (2m - 1)!! sin^m
-  for (int m = 0; m < kL; ++m) {
-    if (m > 0) pmm *= (2 * m - 1) * s;
-    const double c = std::cos(m * phi), sn = std::sin(m * phi);
-    double pa = pmm, pb = 0;
-    for (int l = m; l < kL; ++l) {
-      double p = pa;
-      if (l == m + 1) {
-        pb = z * (2 * m + 1) * pa;
-        p = pb;
-      } else if (l > m + 1) {
-        p = ((2 * l - 1) * z * pb - (l + m - 1) * pa) / (l - m);
-        pa = pb;
-        pb = p;
-      }
-      const double v = p * norm[sh::index(l, m)];
-      out[sh::index(l, m)] = m == 0 ? v : v * c;
-      if (m > 0) out[sh::index(l, -m)] = v * sn;
-    }
-  }
+  terrain_shadow::detail::eval_basis_any(kL, x, y, z, out);
 }
 
 using Dense = std::array<double, kC>;
