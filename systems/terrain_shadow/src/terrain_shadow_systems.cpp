@@ -161,9 +161,12 @@ void compose(ecs::World& w) {
       return;
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
-      for (int c = 0; c < 3; ++c)  // without the key lights: their OEM ([Ambrosj16] sec. 4.2)
-        radiance[c] = sh::rotate_z<kSystemBands>(
-            keys ? env->oem_sh[env->oem_sh.size() - 1 - keys][c] : env->radiance[c], rotation);
+      for (int c = 0; c < 3; ++c) {  // without the key lights: their OEM ([Ambrosj16] sec. 4.2)
+        const auto& full = keys ? env->oem_sh[env->oem_sh.size() - 1 - keys][c] : env->radiance[c];
+        sh::Coeffs<kSystemBands> low{};  // the first kSystemBands bands of the map's SH
+        std::copy_n(full.begin(), low.size(), low.begin());
+        radiance[c] = sh::rotate_z<kSystemBands>(low, rotation);
+      }
     auto rgb = std::make_shared<std::vector<glm::vec3>>();
     x.shadowing->shade_environment(radiance, *rgb);  // [Meier13] eq. 4.21
     if (keys) add_key_lights(*env, settings, keys, x, *rgb);
