@@ -62,9 +62,16 @@ ProbePoints parse_probe_points(std::string_view text, int bands, const std::stri
       const auto [ptr, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
       if (ptr != digits.data() + digits.size() ||
           (ec != std::errc() && ec != std::errc::result_out_of_range))
-        fail("'" + shown(token) + "' is not a number");
+        fail(std::string("'").append(shown(token)).append("' is not a number"));
       const auto bad_value = [&](const char* what) {
-        fail("value " + std::to_string(values.size() + 1) + " ('" + shown(token) + "') " + what);
+        // Appended, not "literal" + string&&: GCC 12 warns falsely there (-Wrestrict, bug 105329).
+        std::string m = "value ";
+        m += std::to_string(values.size() + 1);
+        m += " ('";
+        m += shown(token);
+        m += "') ";
+        m += what;
+        fail(m);
       };
       if (ec == std::errc::result_out_of_range) bad_value("is outside the float range");
       if (!std::isfinite(v)) bad_value("is not finite");

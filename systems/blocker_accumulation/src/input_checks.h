@@ -14,7 +14,15 @@ inline bool finite(const glm::vec3& v) {
 }
 
 inline std::string str(const glm::vec3& v) {
-  return "(" + std::to_string(v.x) + ", " + std::to_string(v.y) + ", " + std::to_string(v.z) + ")";
+  // Appended, not "literal" + string&&: GCC 12 warns falsely there (-Wrestrict, bug 105329).
+  std::string s = "(";
+  s += std::to_string(v.x);
+  s += ", ";
+  s += std::to_string(v.y);
+  s += ", ";
+  s += std::to_string(v.z);
+  s += ")";
+  return s;
 }
 
 }  // namespace penumbra::blocker_accumulation::detail
