@@ -49,6 +49,7 @@ Case& get(const std::string& scene, const std::string& map) {
     environment::DetectionSettings ds;
     ds.source_count = 3;
     environment::update_environment_light(slot->env, ds);
+    slot->env.radiance = slot->env.oem_sh.back();  // the whole map's SH (every source in it)
     slot->field = tr::load_terrain(scene, 256);
     slot->ts = std::make_unique<terrain_shadow::TerrainShadowing<kN>>();
     slot->ts->update(slot->field, 1.0f);
@@ -63,20 +64,15 @@ Case& get(const std::string& scene, const std::string& map) {
 
 // One frame's compose with the first n sources as key lights (n = 0: the whole map's SH).
 std::vector<glm::vec3> compose(const Case& c, int n) {
-  const std::size_t all = c.env.oem_sh.size() - 1;
-  const std::size_t keyed = (std::size_t{1} << n) - 1;
+  const auto& rest = components::sh_without(c.env, (std::size_t{1} << n) - 1);
   sh::CoeffsRgb<kN> radiance{};
-  for (int ch = 0; ch < 3; ++ch)
-    radiance[ch] = sh::rotate_z<kN>(c.env.oem_sh[all - keyed][ch], kRotation);
+  for (int ch = 0; ch < 3; ++ch) radiance[ch] = sh::rotate_z<kN>(rest[ch], kRotation);
   std::vector<glm::vec3> e;
   c.ts->shade_environment(radiance, e);  // [Meier13] eq. 4.21
-  const float cr = std::cos(kRotation), sr = std::sin(kRotation);
   std::vector<float> horizons;
   for (int j = 0; j < n; ++j) {  // [Ambrosj16] ch. 4: each source a key light
     const components::EnvironmentSource& s = c.env.sources[static_cast<std::size_t>(j)];
-    const glm::vec3 d =
-        glm::normalize(glm::vec3(cr * s.direction.x - sr * s.direction.y,
-                                 sr * s.direction.x + cr * s.direction.y, s.direction.z));
+    const glm::vec3 d = components::world_direction(s, kRotation);
     c.ts->key_light_horizons(d, horizons);
     c.ts->add_key_light(d, s.angular_radius, s.irradiance, horizons, e);
   }

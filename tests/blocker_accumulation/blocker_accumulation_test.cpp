@@ -126,7 +126,6 @@ TEST(BlockerAccuracy, OneSphereOverAPlaneWithTheSunAsKeyLight) {
   environment::update_environment_light(env, {});
   ASSERT_GE(env.sources.size(), 1u);
   const components::EnvironmentSource& sun = env.sources[0];
-  const std::size_t rest = env.oem_sh.size() - 2;  // every source but the first still in the map
 
   reference::SceneDesc desc;
   desc.environment = reference::EnvironmentLight{*env.map, 0.0f};
@@ -149,7 +148,7 @@ TEST(BlockerAccuracy, OneSphereOverAPlaneWithTheSunAsKeyLight) {
   for (std::size_t i = 0; i < receivers.size(); ++i) {
     const glm::vec3 p = receivers[i].position, n = receivers[i].normal;
     const float sh_only = acc.irradiance(whole, p, n).y;
-    const float key = acc.irradiance(env.oem_sh[rest], p, n).y +
+    const float key = acc.irradiance(components::sh_without(env, 1), p, n).y +
                       sun.irradiance.y * std::max(0.0f, glm::dot(n, sun.direction)) *
                           acc.key_light_visibility(p, sun.direction, sun.angular_radius);
     const double d_sh = (sh_only - ref[i].mean.y) / open_mean;

@@ -31,20 +31,14 @@ constexpr int kN = sh::kDefaultBands;
 // The method's irradiance with the map's first n sources as key lights (n = 0: SH alone).
 std::vector<glm::vec3> method(const terrain_shadow::TerrainShadowing<kN>& ts,
                               const components::EnvironmentLight& env, int n) {
-  const std::size_t set = n == 0 ? env.oem_sh.size() - 1 : 0;  // the whole map, or none left
-  // With n < sources found, the OEM keeping sources n.. (bit j: source j still in the map).
-  const std::size_t mask =
-      n == 0 ? set : ((std::size_t{1} << env.sources.size()) - 1) & ~((std::size_t{1} << n) - 1);
+  const auto& rest = components::sh_without(env, (std::size_t{1} << n) - 1);
   sh::CoeffsRgb<kN> radiance{};
-  for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<kN>(env.oem_sh[mask][c], kRotation);
+  for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<kN>(rest[c], kRotation);
   std::vector<glm::vec3> e;
   ts.shade_environment(radiance, e);
-  const float cr = std::cos(kRotation), sr = std::sin(kRotation);
   for (int j = 0; j < n; ++j) {
     const components::EnvironmentSource& s = env.sources[static_cast<std::size_t>(j)];
-    const glm::vec3 d =
-        glm::normalize(glm::vec3(cr * s.direction.x - sr * s.direction.y,
-                                 sr * s.direction.x + cr * s.direction.y, s.direction.z));
+    const glm::vec3 d = components::world_direction(s, kRotation);
     std::vector<float> horizons;
     ts.key_light_horizons(d, horizons);
     ts.add_key_light(d, s.angular_radius, s.irradiance, horizons, e);
@@ -59,6 +53,7 @@ TEST(KeyLightAccuracy, SourcesAsKeyLightsAgainstShAlone) {
     environment::DetectionSettings ds;
     ds.source_count = 3;
     environment::update_environment_light(env, ds);
+    env.radiance = env.oem_sh.back();  // the whole map's SH (every source in it)
     ASSERT_GE(env.sources.size(), 1u) << map_name;
     ASSERT_EQ(env.oem_sh.size(), std::size_t{1} << env.sources.size());
     for (const char* scene : {"dem", "mountains"}) {

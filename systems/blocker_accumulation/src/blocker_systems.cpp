@@ -83,14 +83,12 @@ sh::CoeffsRgb<N> receiver_environment(ecs::World& w, std::vector<KeyLight>& keys
   const std::size_t mask = s.sources == components::EnvironmentSources::kKeyLights
                                ? components::key_light_mask(*env, s.key_light_max_radius)
                                : 0;
-  const sh::CoeffsRgb<N>& sh = mask ? env->oem_sh[env->oem_sh.size() - 1 - mask] : env->radiance;
+  const sh::CoeffsRgb<N>& sh = components::sh_without(*env, mask);
   sh::CoeffsRgb<N> radiance{};
   for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(sh[c], env->rotation_z);
-  const float cr = std::cos(env->rotation_z), sr = std::sin(env->rotation_z);
   for (std::size_t j = 0; j < env->sources.size(); ++j) {
     if (!(mask >> j & 1)) continue;
-    const glm::vec3 d = env->sources[j].direction;
-    const glm::vec3 dir = glm::normalize(glm::vec3(cr * d.x - sr * d.y, sr * d.x + cr * d.y, d.z));
+    const glm::vec3 dir = components::world_direction(env->sources[j], env->rotation_z);
     keys.push_back({dir, std::atan2(dir.y, dir.x), env->sources[j].angular_radius,
                     env->sources[j].irradiance});
   }

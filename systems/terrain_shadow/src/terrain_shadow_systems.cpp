@@ -124,12 +124,10 @@ std::size_t key_light_mask(const EnvironmentLight* env, const TerrainShadowSetti
 void add_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& settings,
                     std::size_t mask, TerrainShadowState& x, std::vector<glm::vec3>& rgb) {
   x.key_lights.resize(env.sources.size());
-  const float c = std::cos(env.rotation_z), s = std::sin(env.rotation_z);
   for (std::size_t j = 0; j < env.sources.size(); ++j) {
     if (!(mask >> j & 1)) continue;
     const components::EnvironmentSource& src = env.sources[j];
-    const glm::vec3 d = src.direction;
-    const glm::vec3 dir = glm::normalize(glm::vec3(c * d.x - s * d.y, s * d.x + c * d.y, d.z));
+    const glm::vec3 dir = components::world_direction(src, env.rotation_z);
     const float phi = std::atan2(dir.y, dir.x);
     TerrainShadowState::KeyLight& k = x.key_lights[j];
     float moved = std::abs(std::remainder(phi - k.phi, 2 * std::numbers::pi_v<float>));
@@ -162,7 +160,7 @@ void compose(ecs::World& w) {
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
       for (int c = 0; c < 3; ++c) {  // without the key lights: their OEM ([Ambrosj16] sec. 4.2)
-        const auto& full = keys ? env->oem_sh[env->oem_sh.size() - 1 - keys][c] : env->radiance[c];
+        const auto& full = components::sh_without(*env, keys)[c];
         sh::Coeffs<kSystemBands> low{};  // the first kSystemBands bands of the map's SH
         std::copy_n(full.begin(), low.size(), low.begin());
         radiance[c] = sh::rotate_z<kSystemBands>(low, rotation);

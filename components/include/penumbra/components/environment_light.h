@@ -7,11 +7,13 @@
 // of the sources keep using it unchanged.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "penumbra/sh/basis.h"
@@ -64,6 +66,20 @@ inline std::size_t key_light_mask(const EnvironmentLight& env, float max_angular
   for (std::size_t j = 0; j < env.sources.size(); ++j)
     if (env.sources[j].angular_radius <= max_angular_radius) mask |= std::size_t{1} << j;
   return mask;
+}
+
+// The map's SH without the sources in `mask` (bit j: source j taken out as a key light), every
+// other source still in it; mask 0: the whole map's SH. Needs the OEM sets (key_light_mask).
+inline const sh::CoeffsRgb<sh::kDefaultBands>& sh_without(const EnvironmentLight& env,
+                                                          std::size_t mask) {
+  return mask ? env.oem_sh[env.oem_sh.size() - 1 - mask] : env.radiance;
+}
+
+// A source's direction in the world: turned by the map's rotation_z about +z (unit).
+inline glm::vec3 world_direction(const EnvironmentSource& s, float rotation_z) {
+  const float c = std::cos(rotation_z), n = std::sin(rotation_z);
+  const glm::vec3& d = s.direction;
+  return glm::normalize(glm::vec3(c * d.x - n * d.y, n * d.x + c * d.y, d.z));
 }
 
 }  // namespace penumbra::components
