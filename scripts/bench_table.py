@@ -35,6 +35,15 @@ def fmt(v):
     return f"{v:,.0f}" if abs(v) >= 1000 else f"{v:.3g}" if abs(v) < 10 else f"{v:.1f}"
 
 
+def ratio_and_floor(row):
+    """A summary row's same-run ratio and floor cells: "1.23 (baseline/value)", "4.5 (6.7x)"."""
+    ratio = row.get("ratio")
+    ratio_text = "-" if ratio is None else f"{ratio:.3g} ({row.get('ratio_def') or 'baseline/value'})"
+    floor = row.get("floor")
+    floor_text = "-" if floor is None else f"{fmt(floor)} ({fmt(row.get('floor_ratio'))}x)"
+    return ratio_text, floor_text
+
+
 def table(r):
     if r["group"] == "probe_bake":
         return probe_bake_table(r, probe_bake_records())
@@ -51,10 +60,7 @@ def table(r):
         goal_text = "-"
         if goal:
             goal_text = f"{goal['metric']} {goal['op']} {fmt(goal['target'])}: {row['status']}"
-        ratio = row.get("ratio")
-        ratio_text = "-" if ratio is None else f"{ratio:.3g} ({row.get('ratio_def') or 'baseline/value'})"
-        floor = row.get("floor")
-        floor_text = "-" if floor is None else f"{fmt(floor)} ({fmt(row.get('floor_ratio'))}x)"
+        ratio_text, floor_text = ratio_and_floor(row)
         lines.append(f"| {row['name'].strip()} | {fmt(row.get('value'))} {row['unit']} | "
                      f"{ratio_text} | {floor_text} | {goal_text} | {row.get('note', '')} |")
     if r["group"] == "blockers":
@@ -540,10 +546,7 @@ def terrain_brief(summary):
             continue
         goal = row.get("goal")
         goal_text = f"{goal['op']} {fmt(goal['target'])}: {row['status']}" if goal else "-"
-        floor = row.get("floor")
-        floor_text = "-" if floor is None else f"{fmt(floor)} ({fmt(row.get('floor_ratio'))}x)"
-        ratio = row.get("ratio")
-        ratio_text = "-" if ratio is None else f"{ratio:.3g} ({row.get('ratio_def') or 'baseline/value'})"
+        ratio_text, floor_text = ratio_and_floor(row)
         lines.append(f"| {label} | {fmt(row.get('value'))} | {floor_text} | {ratio_text} | "
                      f"{goal_text} | {row.get('note', '')} |")
     return "\n".join(lines)
