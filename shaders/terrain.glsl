@@ -10,7 +10,7 @@
 layout(push_constant) uniform Push {
   vec4 origin_cell;  // xyz: world position of sample (0, 0) at height 0; w: cell size
   vec4 albedo;       // rgb: albedo as shown (1 in the lighting-only view)
-  vec4 lighting_size;  // xy: texels of the lighting texture (1x1: none)
+  vec4 lighting_size;  // xy: texels of the lighting texture (1x1: none), z: RGBM decode scale
   ivec4 grid;        // x, y: samples along x and y
 } pc;
 
@@ -45,6 +45,8 @@ layout(location = 0) out vec4 out_color;
 void main() {
   // albedo.rgb is already view_albedo's (the renderer applies the lighting-only toggle), and the
   // 1x1 placeholder texture (lighting 1) is bound when there is no lighting.
-  out_color = vec4(pc.albedo.rgb * texture(lighting, v_uv).rgb, 1.0);
+  // RGBM (engine/render/include/penumbra/render/lighting_texels.h); the placeholder is 1, scale 1.
+  vec4 t = texture(lighting, v_uv);
+  out_color = vec4(pc.albedo.rgb * (t.rgb * (t.a * pc.lighting_size.z)), 1.0);
 }
 #endif

@@ -3,23 +3,21 @@
 #include <cstddef>
 #include <cstdint>
 
-#if defined(__F16C__)
-#include <immintrin.h>
-#endif
-
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtc/packing.hpp>
+
+#include "penumbra/render/lighting_texels.h"
 
 namespace penumbra::render {
 namespace {
-constexpr VkFormat kLightingFormat = VK_FORMAT_R16G16B16A16_SFLOAT;
+constexpr VkFormat kLightingFormat = VK_FORMAT_R8G8B8A8_UNORM;  // RGBM (lighting_texels.h)
 
 struct Push {
   float origin_cell[4];
   float albedo[4];         // as shown: 1 in the lighting-only view
-  float lighting_size[4];  // texels of the bound lighting texture (1x1 placeholder: lighting 1)
+  float lighting_size[4];  // xy: texels of the bound lighting texture (1x1 placeholder:
+                           // lighting 1), z: RGBM decode scale
   std::int32_t grid[4];    // samples along x, along y; unused
 };
 
@@ -31,26 +29,6 @@ bool drawable(const std::shared_ptr<const data::HeightField>& f) {
 bool usable(const TerrainDraw& t) {
   return t.lighting && t.lighting_width > 0 && t.lighting_height > 0 &&
          t.lighting->size() >= static_cast<std::size_t>(t.lighting_width) * t.lighting_height;
-}
-
-// RGB floats to RGBA half floats (alpha 1), on the frame's critical path every time the lighting
-// changes: with F16C (part of the x86-64-v3 baseline) one conversion instruction per texel,
-// about 15x glm::packHalf1x16 (1.3 ms a frame for the demo's 256x256 texels, docs/play.md).
-void pack_half_rgba(const glm::vec3* rgb, std::size_t n, std::uint16_t* out) {
-#if defined(__F16C__)
-  for (std::size_t i = 0; i < n; ++i) {
-    const __m128 v = _mm_set_ps(1.0f, rgb[i].z, rgb[i].y, rgb[i].x);
-    _mm_storel_epi64(reinterpret_cast<__m128i*>(out + 4 * i),
-                     _mm_cvtps_ph(v, _MM_FROUND_TO_NEAREST_INT));
-  }
-#else
-  for (std::size_t i = 0; i < n; ++i) {
-    out[4 * i + 0] = glm::packHalf1x16(rgb[i].x);
-    out[4 * i + 1] = glm::packHalf1x16(rgb[i].y);
-    out[4 * i + 2] = glm::packHalf1x16(rgb[i].z);
-    out[4 * i + 3] = glm::packHalf1x16(1.0f);
-  }
-#endif
 }
 
 Image make_lighting(Device& device, std::uint32_t w, std::uint32_t h) {
@@ -127,9 +105,8 @@ void TerrainPass::upload_lighting(FrameContext& ctx, const TerrainDraw& t) {
   }
   const std::size_t n = static_cast<std::size_t>(w) * h;
   texels_.resize(4 * n);
-  pack_half_rgba(rgb.data(), n, texels_.data());
-  copy_to_image(ctx.cmd, ctx.ring, texels_.data(), texels_.size() * sizeof(std::uint16_t),
-                lighting_, old_layout);
+  lighting_scale_ = pack_rgbm(rgb.data(), n, texels_.data()).scale;
+  copy_to_image(ctx.cmd, ctx.ring, texels_.data(), texels_.size(), lighting_, old_layout);
 }
 
 void TerrainPass::prepare(FrameContext& ctx) {
@@ -182,7 +159,7 @@ void TerrainPass::draw(FrameContext& ctx) {
   const float lit_h = lighting_src_ ? static_cast<float>(lit_h_) : 1.0f;
   Push push{{t.origin.x, t.origin.y, t.origin.z, cell},
             {albedo.x, albedo.y, albedo.z, 0.0f},
-            {lit_w, lit_h, 0.0f, 0.0f},
+            {lit_w, lit_h, lighting_src_ ? lighting_scale_ : 1.0f, 0.0f},
             {grid_w_, grid_h_, 0, 0}};
   vkCmdPushConstants(ctx.cmd, layout_.get(),
                      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,

@@ -11,7 +11,7 @@
 // front.
 //
 // GPU data, re-uploaded only when the packet's pointers change: heights (storage buffer, one
-// float per sample; vertices come from gl_VertexIndex) and the lighting texture (RGBA16F); the
+// float per sample; vertices come from gl_VertexIndex) and the lighting texture (RGBM in RGBA8, lighting_texels.h); the
 // bintree is rebuilt with the heights. Per frame, through the upload ring: the index list.
 // Same-size updates are copied in place (ordered after the previous frame's reads by barriers);
 // size changes create new resources and retire the old ones.
@@ -56,7 +56,8 @@ class TerrainPass {
   int lit_w_ = 0, lit_h_ = 0;
   std::shared_ptr<const data::HeightField> heights_src_;
   std::shared_ptr<const std::vector<glm::vec3>> lighting_src_;
-  std::vector<std::uint16_t> texels_;  // conversion scratch
+  std::vector<std::uint8_t> texels_;  // conversion scratch
+  float lighting_scale_ = 1.0f;       // RGBM decode scale of lighting_
   std::uint64_t triangles_ = 0;
 };
 

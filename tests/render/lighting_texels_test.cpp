@@ -1,0 +1,82 @@
+// RGBM packing of the terrain's lighting texels (lighting_texels.h): the stated precision, dark
+// texels keeping relative precision, and bad input.
+#include "penumbra/render/lighting_texels.h"
+
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+namespace penumbra::render {
+namespace {
+
+std::vector<std::uint8_t> pack(const std::vector<glm::vec3>& rgb, RgbmPacking* p = nullptr) {
+  std::vector<std::uint8_t> out(4 * rgb.size(), 0xAB);
+  const RgbmPacking r = pack_rgbm(rgb.data(), rgb.size(), out.data());
+  if (p) *p = r;
+  return out;
+}
+
+TEST(LightingTexels, RoundTripWithinTheStatedBound) {
+  // Irradiance-like values over four decades, coloured.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> decade(-4.0f, 0.0f), tint(0.3f, 1.0f);
+  std::vector<glm::vec3> rgb(5000);
+  for (auto& c : rgb)
+    c = std::pow(10.0f, decade(rng)) * 20.0f * glm::vec3(tint(rng), tint(rng), 1.0f);
+  RgbmPacking p;
+  const auto packed = pack(rgb, &p);
+  float largest = 0.0f;
+  for (const auto& c : rgb) largest = std::max({largest, c.x, c.y, c.z});
+  EXPECT_FLOAT_EQ(p.scale, largest);
+  EXPECT_EQ(p.rejected, 0u);
+  float worst_relative = 0.0f;
+  for (std::size_t i = 0; i < rgb.size(); ++i) {
+    const glm::vec3 d = unpack_rgbm(&packed[4 * i], p.scale);
+    const float m = std::max({rgb[i].x, rgb[i].y, rgb[i].z});
+    const float bound = m / 510.0f + p.scale / 130050.0f;
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_LE(std::abs(d[c] - rgb[i][c]), bound * 1.001f) << i << " channel " << c;
+      if (m > p.scale * 0.01f)
+        worst_relative = std::max(worst_relative, std::abs(d[c] - rgb[i][c]) / m);
+    }
+  }
+  // Within two decades of the brightest texel, every channel within 0.4% of the texel's largest
+  // (half floats: 0.05%), the precision an 8-bit display shows after tone mapping.
+  EXPECT_LT(worst_relative, 0.004f);
+}
+
+TEST(LightingTexels, BrightestTexelIsExactAndBlackIsZero) {
+  const std::vector<glm::vec3> rgb{{4.0f, 2.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+  RgbmPacking p;
+  const auto packed = pack(rgb, &p);
+  EXPECT_EQ(packed[3], 255);
+  EXPECT_EQ(packed[0], 255);
+  EXPECT_FLOAT_EQ(unpack_rgbm(&packed[0], p.scale).x, 4.0f);
+  for (int c = 4; c < 8; ++c) EXPECT_EQ(packed[c], 0);
+}
+
+TEST(LightingTexels, BadTexelsBecomeBlackAndAreCounted) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<glm::vec3> rgb{
+      {1.0f, 1.0f, 1.0f}, {nan, 1.0f, 1.0f}, {inf, 0.0f, 0.0f}, {-1.0f, 2.0f, 2.0f}};
+  RgbmPacking p;
+  const auto packed = pack(rgb, &p);
+  EXPECT_EQ(p.rejected, 3u);
+  EXPECT_FLOAT_EQ(p.scale, 1.0f);  // the bad texels do not set the scale
+  for (int i = 1; i < 4; ++i)
+    for (int c = 0; c < 4; ++c) EXPECT_EQ(packed[4 * i + c], 0) << i;
+}
+
+TEST(LightingTexels, EmptyAndAllBlackGiveScaleOne) {
+  EXPECT_FLOAT_EQ(pack_rgbm(nullptr, 0, nullptr).scale, 1.0f);
+  RgbmPacking p;
+  pack(std::vector<glm::vec3>(3, glm::vec3(0.0f)), &p);
+  EXPECT_FLOAT_EQ(p.scale, 1.0f);
+}
+
+}  // namespace
+}  // namespace penumbra::render
