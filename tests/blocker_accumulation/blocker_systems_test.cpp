@@ -8,6 +8,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/frame_work.h"
 #include "penumbra/components/camera.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
@@ -164,6 +165,29 @@ TEST(BlockerSystems, RefreshPeriodSpreadsReceiversOverFrames) {
   EXPECT_LE(frames, 4);
   EXPECT_GT(s.at(0, 0).x, under);
   EXPECT_EQ(shaded, 1);
+}
+
+// The frame table's work report (jobs::report_work) of blockers.shade: receivers re-shaded and
+// receivers left to a later frame. It is a budget, not a change test: with the budget for one
+// receiver, every new receiver first, then one a frame round robin, even when nothing moved.
+TEST(BlockerSystems, ReportsTheReceiversItSkipsPerFrame) {
+  Scene s;
+  for (int i = 0; i < 2; ++i) {
+    const Receiver& r = *s.world.get<Receiver>(s.ground);
+    s.world.create_with(Receiver{r.points, r.normals}, Transform{}, ReceiverLighting{});
+  }
+  s.world.resource<BlockerSettingsResource>().receiver_budget = 1;
+  auto shade = [&] { return test::system_timing(s.executor.last_frame(), "blockers.shade"); };
+  s.executor.run(s.schedule, s.world);
+  EXPECT_TRUE(shade().reported);
+  EXPECT_EQ(shade().done, 3u) << "new receivers are shaded at once";
+  EXPECT_EQ(shade().skipped, 0u);
+  for (int f = 0; f < 3; ++f) {
+    s.executor.run(s.schedule, s.world);
+    EXPECT_EQ(shade().done, 1u);
+    EXPECT_EQ(shade().skipped, 2u);
+  }
+  EXPECT_FALSE(test::system_timing(s.executor.last_frame(), "blockers.gather").reported);
 }
 
 TEST(BlockerSystems, NonFiniteInputIsNamedAndLeftOut) {

@@ -8,6 +8,7 @@
 #include <limits>
 #include <memory>
 
+#include "common/frame_work.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/jobs/executor.h"
 #include "penumbra/sh/projection.h"
@@ -53,6 +54,27 @@ TEST(EnvironmentSystems, FindsTheSourcesOfANewMapOnce) {
   f.executor.run(f.schedule, f.world);
   EXPECT_TRUE(f.world.resource<EnvironmentLight>().sources.empty());
   EXPECT_EQ(f.world.resource<env::EnvironmentSettings>().detections, 2u);
+}
+
+// The frame table's work report (jobs::report_work): one map, detected when new, skipped while
+// unchanged; no report without an EnvironmentLight.
+TEST(EnvironmentSystems, ReportsTheWorkItSkipsPerFrame) {
+  Fixture f;
+  f.executor.run(f.schedule, f.world);
+  EXPECT_FALSE(t::system_timing(f.executor.last_frame(), "environment.sources").reported);
+  f.world.emplace_resource<EnvironmentLight>();
+  auto m = t::flat_map(128, 64, glm::vec3(0.3f));
+  t::add_disc(m, t::dir_deg(40, 30), 3.0f, glm::vec3(3000));
+  f.set_map(m);
+  f.executor.run(f.schedule, f.world);
+  const auto& s = t::system_timing(f.executor.last_frame(), "environment.sources");
+  EXPECT_TRUE(s.reported);
+  EXPECT_EQ(s.done, 1u);
+  EXPECT_EQ(s.skipped, 0u);
+  f.executor.run(f.schedule, f.world);
+  const auto& still = t::system_timing(f.executor.last_frame(), "environment.sources");
+  EXPECT_EQ(still.done, 0u) << "unchanged map";
+  EXPECT_EQ(still.skipped, 1u);
 }
 
 TEST(EnvironmentSystems, ARejectedMapLeavesNoSourcesAndItsMessage) {

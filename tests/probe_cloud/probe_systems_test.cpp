@@ -14,6 +14,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/frame_work.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/probe_anchor.h"
 #include "penumbra/components/probe_cloud_resource.h"
@@ -107,6 +108,28 @@ TEST(ProbeSystems, MovingEntitiesGetTheInterpolatedShAndKeepTheirCells) {
     EXPECT_LT(s.report().fallbacks, positions.size() / 100);
     expect_matches_direct(s, positions);
   }
+}
+
+// The frame table's work report (jobs::report_work): entities walked, and entities skipped
+// because they did not move.
+TEST(ProbeSystems, ReportsTheWorkItSkipsPerFrame) {
+  const auto points = test::random_points(100, 10.0f, 41);
+  Scene s(make_cloud(points, test::random_sh(points.size(), 3, 42)));
+  auto positions = test::random_points(500, 9.0f, 43);
+  s.spawn(positions);
+  s.run();
+  auto walk = [&] { return penumbra::test::system_timing(s.executor.last_frame(), "probes.walk"); };
+  EXPECT_TRUE(walk().reported);
+  EXPECT_EQ(walk().done, 500u);
+  EXPECT_EQ(walk().skipped, 0u);
+  s.run();
+  EXPECT_EQ(walk().done, 0u) << "nothing moved";
+  EXPECT_EQ(walk().skipped, 500u);
+  for (std::size_t i = 0; i < 100; ++i) positions[i].x += 0.05f;
+  s.move(positions);
+  s.run();
+  EXPECT_EQ(walk().done, 100u);
+  EXPECT_EQ(walk().skipped, 400u);
 }
 
 TEST(ProbeSystems, ReplacingTheCloudInvalidatesEveryCachedCell) {

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/frame_work.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver.h"
@@ -106,6 +107,32 @@ TEST(SphericalLightSystems, ReflectorsTakeTurnsAndFarReceiversSkipTheGather) {
   const auto& indirect = *s.world.get<ReceiverLighting>(far)->indirect;
   ASSERT_EQ(indirect.size(), 1u);
   EXPECT_EQ(indirect[0], glm::vec3(0.0f));
+}
+
+// The frame table's work report (jobs::report_work): spherical_lights.reflect relights a
+// reflector on its turn (reflect_period) and reports the others skipped; gather shades new
+// receivers at once, then within its point budget.
+TEST(SphericalLightSystems, ReportsTheWorkItSkipsPerFrame) {
+  Scene s;
+  auto step = [&](std::string_view name) {
+    return penumbra::test::system_timing(s.executor.last_frame(), name);
+  };
+  s.executor.run(s.schedule, s.world);
+  EXPECT_TRUE(step("spherical_lights.reflect").reported);
+  EXPECT_EQ(step("spherical_lights.reflect").done, 1u) << "a new reflector is lit at once";
+  EXPECT_EQ(step("spherical_lights.gather").done, 1u);
+  EXPECT_EQ(step("spherical_lights.gather").skipped, 0u);
+  int done = 0, skipped = 0;
+  for (int i = 0; i < 8; ++i) {
+    s.executor.run(s.schedule, s.world);
+    const bool lit = s.world.resource<SphericalLightField>().sample_points > 0;  // this frame
+    EXPECT_EQ(step("spherical_lights.reflect").done, lit ? 1u : 0u) << i;
+    EXPECT_EQ(step("spherical_lights.reflect").skipped, lit ? 0u : 1u) << i;
+    done += static_cast<int>(step("spherical_lights.reflect").done);
+    skipped += static_cast<int>(step("spherical_lights.reflect").skipped);
+  }
+  EXPECT_EQ(done, 2) << "once every 4 frames";
+  EXPECT_EQ(skipped, 6);
 }
 
 TEST(SphericalLightSystems, SwitchedOffClearsTheIndirectTerm) {

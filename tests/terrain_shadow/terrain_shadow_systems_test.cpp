@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/frame_work.h"
 #include "penumbra/assets/procedural.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
@@ -93,6 +94,46 @@ TEST(TerrainShadowSystems, MovingLightReshadesWithoutEnvironmentVisibility) {
   EXPECT_EQ(f.entry().lights_stamp, lights + 1);
   EXPECT_NE(f.lighting().rgb, before);
   EXPECT_NE(*f.lighting().rgb, *before);
+}
+
+// The work each system reports to the frame table (jobs::report_work): a frame where nothing
+// changed skips everything; a moved light, a turned sky, an edit each make their step work.
+TEST(TerrainShadowSystems, ReportsTheWorkItSkipsPerFrame) {
+  Fixture f;
+  f.frame();
+  f.settle();
+  f.frame();
+  auto step = [&](std::string_view name) {
+    return test::system_timing(f.executor.last_frame(), name);
+  };
+  for (const char* name :
+       {"terrain_shadow.visibility", "terrain_shadow.lights", "terrain_shadow.compose"}) {
+    EXPECT_TRUE(step(name).reported) << name;
+    EXPECT_EQ(step(name).done, 0u) << name << ": nothing changed";
+  }
+  EXPECT_EQ(step("terrain_shadow.visibility").skipped, 1u);
+  EXPECT_EQ(step("terrain_shadow.lights").skipped, 4u) << "every tile";
+  EXPECT_EQ(step("terrain_shadow.compose").skipped, 1u);
+
+  f.world.get_mut<SphericalLight>(f.light)->position.x += 10.0f;
+  f.frame();
+  EXPECT_EQ(step("terrain_shadow.visibility").skipped, 1u);
+  EXPECT_GE(step("terrain_shadow.lights").done, 1u);
+  EXPECT_EQ(step("terrain_shadow.lights").done + step("terrain_shadow.lights").skipped, 4u);
+  EXPECT_EQ(step("terrain_shadow.compose").done, 1u);
+  f.settle();
+
+  f.world.resource<EnvironmentLight>().rotation_z = 0.5f;
+  f.frame();
+  EXPECT_EQ(step("terrain_shadow.lights").done, 0u);
+  EXPECT_EQ(step("terrain_shadow.compose").done, 1u);
+
+  ASSERT_TRUE(apply_brush(*f.world.get_mut<Terrain>(f.terrain),
+                          {BrushKind::kCrater, {0.0f, 0.0f}, 6.0f, 8.0f}));
+  f.frame();
+  EXPECT_EQ(step("terrain_shadow.visibility").done, 1u);
+  EXPECT_EQ(step("terrain_shadow.visibility").skipped, 0u);
+  EXPECT_EQ(step("terrain_shadow.compose").done, 1u);
 }
 
 // A light that moved re-shades at most the budget (a quarter of the 4 tiles) per frame, then,

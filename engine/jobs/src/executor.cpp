@@ -31,8 +31,10 @@ int slot() {
 // Runs f as system s: in builds with assertions, with s's declared access installed for the
 // ECS's checks (penumbra/ecs/access_check.h) and isolated, so that this thread, while it waits
 // inside s, runs no other system's work under s's declaration.
+// Reports of jobs::report_work on this thread go to `work` meanwhile.
 template <class F>
-void as_system(const System& s, F&& f) {
+void as_system(const System& s, WorkCounter& work, F&& f) {
+  const WorkScope work_scope(&work);
   if constexpr (ecs::kAccessChecks) {
     const ecs::DeclaredAccess declared{s.name, &s.access.reads, &s.access.writes};
     ecs::AccessScope scope(s.access.exclusive ? nullptr : &declared);
@@ -58,6 +60,7 @@ struct Executor::Impl {
   std::uint64_t base_tick = 0;
   Clock::time_point frame_start;
   std::unique_ptr<std::atomic<std::uint32_t>[]> pending;
+  std::unique_ptr<WorkCounter[]> work;  // per node, this frame
   std::size_t pending_size = 0;
   char frame_join = 0;  // TSan token: every task chain releases it, run() acquires it
 
@@ -85,7 +88,7 @@ void Executor::Impl::run_chunks(std::uint32_t k, System& s, std::size_t chunks) 
   auto body = [&](std::size_t first, std::size_t last) {
     for (std::size_t c = first; c < last; ++c) {
       SystemContext ctx(*world, tick, node.last_run_tick, key_base | c, c, &commands);
-      as_system(s, [&] { s.run_chunk(ctx); });
+      as_system(s, work[k], [&] { s.run_chunk(ctx); });
     }
   };
   if (threads == 1 || chunks == 1) {
@@ -146,25 +149,28 @@ void Executor::Impl::run_node(std::uint32_t k) {
     }
     case System::Kind::kTask: {
       SystemContext ctx(*world, tick, node.last_run_tick, std::uint64_t{k} << 32, 0, &commands);
-      as_system(s, [&] { s.run(ctx); });
+      as_system(s, work[k], [&] { s.run(ctx); });
       break;
     }
     case System::Kind::kChunks: {
       std::size_t entities = 0;
       std::size_t chunks = 0;
-      as_system(s, [&] { chunks = s.prepare(*world, s.exclude, entities); });
+      as_system(s, work[k], [&] { chunks = s.prepare(*world, s.exclude, entities); });
       timing.entities = entities;
       timing.chunks = chunks;
       if (chunks > 0) run_chunks(k, s, chunks);
       if (s.finish) {
         SystemContext ctx(*world, tick, node.last_run_tick, (std::uint64_t{k} << 32) | 0xFFFFFFFFu,
                           0, &commands);
-        as_system(s, [&] { s.finish(ctx); });
+        as_system(s, work[k], [&] { s.finish(ctx); });
       }
       break;
     }
   }
   node.last_run_tick = tick;
+  timing.done = work[k].done.load(std::memory_order_relaxed);
+  timing.skipped = work[k].skipped.load(std::memory_order_relaxed);
+  timing.reported = work[k].reported.load(std::memory_order_relaxed);
   timing.start_ns = ns_between(frame_start, t0);
   timing.duration_ns = ns_between(t0, Clock::now());
 }
@@ -226,9 +232,13 @@ const FrameStats& Executor::run(Schedule& schedule, ecs::World& world) {
   }
   if (m.pending_size != n) {
     m.pending = std::make_unique<std::atomic<std::uint32_t>[]>(n);
+    m.work = std::make_unique<WorkCounter[]>(n);
     m.pending_size = n;
   }
   for (std::size_t i = 0; i < n; ++i) {
+    m.work[i].done.store(0, std::memory_order_relaxed);
+    m.work[i].skipped.store(0, std::memory_order_relaxed);
+    m.work[i].reported.store(false, std::memory_order_relaxed);
     m.pending[i].store(static_cast<std::uint32_t>(nodes[i].predecessors.size()),
                        std::memory_order_relaxed);
   }

@@ -33,9 +33,20 @@ void TimingTable::add(const FrameStats& frame) {
     r.max_ms = std::max(r.max_ms, ms);
     r.entities = t.entities;
     r.chunks = t.chunks;
+    r.done += t.done;
+    r.skipped += t.skipped;
+    r.reported = r.reported || t.reported;
   }
   frame_total_ms_ += static_cast<double>(frame.frame_ns) * 1e-6;
   ++frames_;
+}
+
+double TimingTable::Row::done_per_frame(std::size_t frames) const {
+  return frames == 0 ? 0.0 : static_cast<double>(done) / static_cast<double>(frames);
+}
+
+double TimingTable::Row::skipped_per_frame(std::size_t frames) const {
+  return frames == 0 ? 0.0 : static_cast<double>(skipped) / static_cast<double>(frames);
 }
 
 double TimingTable::mean_frame_ms() const {
@@ -44,15 +55,21 @@ double TimingTable::mean_frame_ms() const {
 
 void TimingTable::print(std::ostream& out) const {
   char line[256];
-  std::snprintf(line, sizeof line, "%-34s %10s %10s %7s %10s %7s\n", "system", "mean ms", "max ms",
-                "frame%", "entities", "chunks");
+  std::snprintf(line, sizeof line, "%-34s %10s %10s %7s %10s %7s %10s %10s\n", "system", "mean ms",
+                "max ms", "frame%", "entities", "chunks", "done/f", "skipped/f");
   out << line;
   const double n = static_cast<double>(std::max<std::size_t>(frames_, 1));
   for (const Row& r : rows_) {
     const double mean = r.total_ms / n;
-    std::snprintf(line, sizeof line, "%-34.34s %10.4f %10.4f %6.1f%% %10zu %7zu\n", r.name.c_str(),
-                  mean, r.max_ms, mean_frame_ms() > 0 ? 100.0 * mean / mean_frame_ms() : 0.0,
-                  r.entities, r.chunks);
+    char done[32] = "-", skipped[32] = "-";
+    if (r.reported) {
+      std::snprintf(done, sizeof done, "%.1f", r.done_per_frame(frames_));
+      std::snprintf(skipped, sizeof skipped, "%.1f", r.skipped_per_frame(frames_));
+    }
+    std::snprintf(line, sizeof line, "%-34.34s %10.4f %10.4f %6.1f%% %10zu %7zu %10s %10s\n",
+                  r.name.c_str(), mean, r.max_ms,
+                  mean_frame_ms() > 0 ? 100.0 * mean / mean_frame_ms() : 0.0, r.entities, r.chunks,
+                  done, skipped);
     out << line;
   }
   std::snprintf(line, sizeof line, "%-34s %10.4f   (%zu frames; systems may overlap in time)\n",
@@ -77,11 +94,14 @@ std::string chrome_trace_json(std::span<const FrameStats> frames) {
     event("frame " + std::to_string(f), "frame", 1000, origin_us,
           static_cast<double>(frame.frame_ns) * 1e-3, "");
     for (const SystemTiming& s : frame.systems) {
-      event(
-          s.name, s.sync ? "sync" : "system", s.thread,
-          origin_us + static_cast<double>(s.start_ns) * 1e-3,
-          static_cast<double>(s.duration_ns) * 1e-3,
-          "\"entities\":" + std::to_string(s.entities) + ",\"chunks\":" + std::to_string(s.chunks));
+      event(s.name, s.sync ? "sync" : "system", s.thread,
+            origin_us + static_cast<double>(s.start_ns) * 1e-3,
+            static_cast<double>(s.duration_ns) * 1e-3,
+            "\"entities\":" + std::to_string(s.entities) +
+                ",\"chunks\":" + std::to_string(s.chunks) +
+                (s.reported ? ",\"done\":" + std::to_string(s.done) +
+                                  ",\"skipped\":" + std::to_string(s.skipped)
+                            : std::string()));
     }
     for (const TaskSpan& t : frame.tasks) {
       event(frame.systems[t.node].name, "task", t.thread,

@@ -298,6 +298,7 @@ void shade(ecs::World& w) {
       all, w.resource<const BlockerSettingsResource>().receiver_budget, field.cursor,
       [](const Item& it) { return !it.out->irradiance; },
       [](const Item& it) { return it.r->points ? it.r->points->size() : std::size_t{0}; });
+  jobs::report_work(now.size(), all.size() - now.size());  // not re-shaded this frame
   for (const Item& it : now) {
     [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
       const std::vector<float> key_share = key_light_terrain(keys, terrain, glm::vec3(t.world[3]));

@@ -10,6 +10,7 @@ namespace {
 
 void update_sources(ecs::World& w) {
   components::EnvironmentLight* light = w.try_resource<components::EnvironmentLight>();
+  if (light) jobs::report_item(sources_stale(*light));  // a map whose sources are found: skipped
   if (!light || !sources_stale(*light)) return;
   EnvironmentSettings& s = w.resource<EnvironmentSettings>();
   ++s.detections;

@@ -208,6 +208,7 @@ void add_probe_cloud_systems(jobs::Schedule& schedule) {
       for (std::string& e : p.errors)
         if (report.errors.size() < kMaxErrors) report.errors.push_back(std::move(e));
     }
+    ctx.report_work(report.entities, report.unchanged);  // walked; not moved, same cloud
     if (report.rejected > report.errors.size())
       report.errors.push_back("... and " + std::to_string(report.rejected - report.errors.size()) +
                               " more entities with a non-finite sample point");

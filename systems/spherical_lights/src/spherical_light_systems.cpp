@@ -139,6 +139,7 @@ void reflect(ecs::World& w) {
           const auto period = static_cast<std::uint64_t>(std::max(1, settings.reflect_period));
           const bool due = !out.radiance || out.radiance->size() != r.samples->lights.size() ||
                            (field.frame + e.index) % period == 0;
+          jobs::report_item(due);
           if (due) {
             std::optional<sh::Coeffs<N>> cast;
             if (terrain) {
@@ -186,6 +187,7 @@ void gather(ecs::World& w) {
   const std::vector<Item> now = blocker_accumulation::pick_receivers(
       all, settings.receiver_budget, field.cursor, [](const Item& it) { return !it.out->indirect; },
       [](const Item& it) { return it.r->points ? it.r->points->size() : std::size_t{0}; });
+  jobs::report_work(now.size(), all.size() - now.size());  // not gathered again this frame
   for (const Item& it : now) {
     const Receiver& r = *it.r;
     if (!r.points || !r.normals || r.points->size() != r.normals->size() || !finite(it.t->world)) {

@@ -61,13 +61,13 @@ void update_visibility(jobs::SystemContext& ctx) {
   w.query<const Terrain>().each([&](ecs::Entity e, const Terrain& t) {
     if (!t.heights) return;
     if (TerrainShadowState* x = w.get_mut<TerrainShadowState>(e)) {
-      update_visibility(*x, t);
+      jobs::report_item(update_visibility(*x, t));  // skipped: the terrain did not change
       return;
     }
     // A new terrain: its state and what it publishes arrive with the next sync point, before
     // terrain_shadow.lights.
     TerrainShadowState x = new_state(settings);
-    update_visibility(x, t);
+    jobs::report_item(update_visibility(x, t));
     const auto& shadowing = x.shadowing;
     ctx.commands().add(e, TerrainHorizons{{shadowing, &shadowing->horizons()},
                                           {shadowing, &shadowing->normals()}});
@@ -100,6 +100,7 @@ void update_lights(ecs::World& w) {
     for (const SphericalLight& l : lights)
       samples.push_back({l.position - t->origin, l.radius, l.radiance});
     const std::vector<TexelRect>& tiles = x.refresh.plan(samples);
+    jobs::report_work(tiles.size(), x.refresh.stats().tiles - tiles.size());  // tiles not re-shaded
     if (tiles.empty()) return;
     x.refresh.keep_previous(x.light_irradiance);
     for (const TexelRect& r : tiles)
@@ -156,7 +157,8 @@ void compose(ecs::World& w) {
     if (x.composed_visibility == x.visibility_stamp && x.composed_lights == x.lights_stamp &&
         x.composed_environment == env_version && x.composed_rotation == rotation &&
         x.composed_sources == sources)
-      return;
+      return jobs::report_item(false);  // nothing it reads changed
+    jobs::report_item(true);
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
       for (int c = 0; c < 3; ++c) {  // without the key lights: their OEM ([Ambrosj16] sec. 4.2)

@@ -32,6 +32,10 @@ struct SystemTiming {
   std::size_t entities = 0;
   std::size_t chunks = 0;
   int thread = 0;  // arena slot that started the system
+  // Items the system worked on and skipped as unchanged this frame (jobs::report_work);
+  // reported == false: the system does not report.
+  std::uint64_t done = 0, skipped = 0;
+  bool reported = false;
 };
 
 // One parallel-for task of a chunk system (recorded when task tracing is on).

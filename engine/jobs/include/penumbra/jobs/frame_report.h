@@ -17,7 +17,9 @@ namespace penumbra::jobs {
 class TimingTable {
  public:
   void add(const FrameStats& frame);
-  // Columns: system, mean ms, max ms, share of frame, entities (last frame), chunks.
+  // Columns: system, mean ms, max ms, share of frame, entities (last frame), chunks, and the
+  // items done and skipped as unchanged per frame (mean; "-" for systems that do not report,
+  // work_report.h).
   void print(std::ostream& out) const;
   std::size_t frames() const { return frames_; }
   double mean_frame_ms() const;
@@ -27,6 +29,10 @@ class TimingTable {
     bool sync = false;
     double total_ms = 0, max_ms = 0;
     std::size_t entities = 0, chunks = 0;
+    std::uint64_t done = 0, skipped = 0;  // totals over the frames (jobs::report_work)
+    bool reported = false;                // reported in any frame
+    double done_per_frame(std::size_t frames) const;
+    double skipped_per_frame(std::size_t frames) const;
   };
   const std::vector<Row>& rows() const { return rows_; }
 

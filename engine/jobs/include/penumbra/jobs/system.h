@@ -19,6 +19,7 @@
 #include "penumbra/ecs/command_buffer.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/access.h"
+#include "penumbra/jobs/work_report.h"
 
 namespace penumbra::jobs {
 
@@ -48,6 +49,10 @@ class SystemContext {
   // Deferred structural changes, recorded in this worker's buffer and applied at the next
   // sync point in a deterministic order. Declare them (SystemBuilder::spawns / structural).
   ecs::CommandWriter& commands();
+  // This frame's items done and skipped because nothing they read changed (work_report.h).
+  void report_work(std::uint64_t done, std::uint64_t skipped) const {
+    jobs::report_work(done, skipped);
+  }
 
  private:
   ecs::World* world_;
