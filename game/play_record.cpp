@@ -81,6 +81,14 @@ std::string to_json(const PlayRecord& r) {
                  {"visible_fraction", r.light_visible_fraction},
                  {"worst_observed_relative", r.light_worst_observed},
                  {"worst_deferred_x_threshold", r.light_worst_deferred}};
+  j["systems"] = json::array();  // done / skipped per frame: null when it does not report
+  for (const SystemRow& row : r.systems)
+    j["systems"].push_back(
+        {{"name", row.name},
+         {"mean_ms", row.mean_ms},
+         {"max_ms", row.max_ms},
+         {"done_per_frame", row.reported ? json(row.done_per_frame) : json(nullptr)},
+         {"skipped_per_frame", row.reported ? json(row.skipped_per_frame) : json(nullptr)}});
   j["splits"] = json::array();
   for (const std::string& text : r.splits) {
     json child = json::parse(text, nullptr, /*allow_exceptions=*/false);

@@ -17,6 +17,15 @@ struct FrameSample {
   double render_ms = 0;  // Renderer::render
 };
 
+// One system of the job graph over the timed frames: CPU time and the work it reported
+// (jobs::report_work: items done and skipped as unchanged, mean per frame).
+struct SystemRow {
+  std::string name;
+  double mean_ms = 0, max_ms = 0;
+  bool reported = false;  // false: the system does not report its work
+  double done_per_frame = 0, skipped_per_frame = 0;
+};
+
 struct PlayRecord {
   // The run.
   std::string scene, device, cpu, date;
@@ -47,6 +56,7 @@ struct PlayRecord {
   double light_worst_observed = 0;    // largest real change of a re-shaded texel / its irradiance
   double light_visible_fraction = 0;  // re-shaded texels that had changed by over the tolerance
   double light_worst_deferred = 0;    // largest bound of a tile left waiting / its threshold
+  std::vector<SystemRow> systems;     // in the job graph's order, sync points left out
   // Other thread splits of the same scene, run as child processes (their JSON records).
   std::vector<std::string> splits;
 };

@@ -387,6 +387,12 @@ int run_headless(const Options& o) {
     record.light_visible_fraction =
         sim.light_observed ? static_cast<double>(sim.light_visible) / sim.light_observed : 0.0;
     record.light_worst_deferred = sim.light_worst_deferred;
+    const std::size_t n = sim.table.frames();
+    for (const jobs::TimingTable::Row& row : sim.table.rows())
+      if (!row.sync)
+        record.systems.push_back({row.name, n ? row.total_ms / static_cast<double>(n) : 0.0,
+                                  row.max_ms, row.reported, row.done_per_frame(n),
+                                  row.skipped_per_frame(n)});
     std::filesystem::path out(o.bench);
     if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
     if (!write_file(o.bench, to_json(record))) {
@@ -469,7 +475,8 @@ int run_window(const Options& o) {
     stats.systems.clear();
     for (const jobs::SystemTiming& s : frame.systems)
       if (!s.sync)
-        stats.systems.emplace_back(std::string(s.name), 1e-6 * static_cast<double>(s.duration_ns));
+        stats.systems.push_back({std::string(s.name), 1e-6 * static_cast<double>(s.duration_ns),
+                                 s.reported, s.done, s.skipped});
     stats.passes = renderer.last_pass_times();
     overlay.build(stats, settings.view);
     // The overlay's toggles apply to this frame already: a copy of the packet with them (the

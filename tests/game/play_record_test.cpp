@@ -37,6 +37,7 @@ TEST(PlayRecord, JsonHoldsTheRunAndIgnoresBrokenSplits) {
   r.gpu_timed_frames = 40;
   r.terrain_triangles = 1234;
   r.lavapipe_threads = "2";
+  r.systems = {{"terrain_shadow.lights", 1.5, 3.0, true, 2.0, 398.0}, {"motion", 0.1, 0.2}};
   PlayRecord child = r;
   child.sim_threads = 1;
   r.splits = {to_json(child), "{ not json", ""};
@@ -49,6 +50,10 @@ TEST(PlayRecord, JsonHoldsTheRunAndIgnoresBrokenSplits) {
   EXPECT_EQ(j["run"]["gpu_timed_frames"], 40);
   EXPECT_EQ(j["terrain"]["triangles"], 1234);
   EXPECT_EQ(j["threads"]["lavapipe"], "2");
+  ASSERT_EQ(j["systems"].size(), 2u);
+  EXPECT_EQ(j["systems"][0]["name"], "terrain_shadow.lights");
+  EXPECT_DOUBLE_EQ(j["systems"][0]["skipped_per_frame"].get<double>(), 398.0);
+  EXPECT_TRUE(j["systems"][1]["done_per_frame"].is_null()) << "a system that does not report";
   ASSERT_EQ(j["splits"].size(), 1u) << "a split whose output is not a record is left out";
   EXPECT_EQ(j["splits"][0]["threads"]["simulation"], 1);
 }

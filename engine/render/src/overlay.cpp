@@ -90,8 +90,16 @@ void Overlay::build(const OverlayStats& stats, ViewSettings& view) {
   ImGui::Text("frame %.2f ms (%.0f fps)", stats.frame_ms,
               stats.frame_ms > 0 ? 1000.0 / stats.frame_ms : 0.0);
   for (const std::string& line : stats.lines) ImGui::Text("%s", line.c_str());
-  if (ImGui::CollapsingHeader("CPU systems (ms)", ImGuiTreeNodeFlags_DefaultOpen)) {
-    for (const auto& [name, ms] : stats.systems) ImGui::Text("%-14s %7.3f", name.c_str(), ms);
+  if (ImGui::CollapsingHeader("CPU systems (ms, items done / skipped)",
+                              ImGuiTreeNodeFlags_DefaultOpen)) {
+    for (const OverlaySystem& s : stats.systems) {
+      if (s.reported)
+        ImGui::Text("%-26s %7.3f %7llu / %-7llu", s.name.c_str(), s.ms,
+                    static_cast<unsigned long long>(s.done),
+                    static_cast<unsigned long long>(s.skipped));
+      else
+        ImGui::Text("%-26s %7.3f", s.name.c_str(), s.ms);
+    }
   }
   if (ImGui::CollapsingHeader("GPU passes (ms)", ImGuiTreeNodeFlags_DefaultOpen)) {
     for (const PassTime& p : stats.passes) ImGui::Text("%-14s %7.3f", p.name, p.ms);

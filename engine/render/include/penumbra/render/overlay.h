@@ -1,7 +1,7 @@
 // Overlay: a Dear ImGui (1.86) window over the frame in a WindowTarget: frame time, the CPU
-// time of every system of the job graph, the GPU time of every pass, and the debug-view
-// toggles (ViewSettings: sky, terrain, meshes, debug primitives, lighting only, tonemap,
-// exposure).
+// time of every system of the job graph with the work it did and skipped, the GPU time of every
+// pass, and the debug-view toggles (ViewSettings: sky, terrain, meshes, debug primitives, lighting
+// only, tonemap, exposure).
 //
 // ImGui draws into the LDR image after the tonemap (so screenshots of a windowed run show it),
 // through ImGui's Vulkan backend, which needs a VkRenderPass: the overlay owns one (LDR format,
@@ -15,6 +15,7 @@
 // Threading: main thread (GLFW input), the render thread being the main thread.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <utility>
@@ -27,12 +28,21 @@
 
 namespace penumbra::render {
 
+// One system of the job graph in the panel: CPU ms and, when it reports them, the items it
+// worked on and skipped as unchanged this frame (jobs::report_work).
+struct OverlaySystem {
+  std::string name;
+  double ms = 0;
+  bool reported = false;
+  std::uint64_t done = 0, skipped = 0;
+};
+
 struct OverlayStats {
   std::string device;
-  double frame_ms = 0;                                  // wall time of the whole frame loop
-  std::vector<std::pair<std::string, double>> systems;  // CPU ms per system (job graph)
-  std::vector<PassTime> passes;                         // GPU ms per pass
-  std::vector<std::string> lines;                       // more lines (keys, switches)
+  double frame_ms = 0;                 // wall time of the whole frame loop
+  std::vector<OverlaySystem> systems;  // per system of the job graph
+  std::vector<PassTime> passes;        // GPU ms per pass
+  std::vector<std::string> lines;      // more lines (keys, switches)
 };
 
 class Overlay {
