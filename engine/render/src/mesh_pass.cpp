@@ -1,14 +1,17 @@
 #include "penumbra/render/mesh_pass.h"
 
+#include <algorithm>
 #include <cstring>
 
+#include <glm/common.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 namespace penumbra::render {
 namespace {
 struct Push {
   float model[16];
-  float albedo[4];
+  float albedo[4];    // rgb: albedo
+  float specular[4];  // rgb: Blinn reflectance, a: exponent (environment shading only)
 };
 }  // namespace
 
@@ -33,6 +36,22 @@ MeshPass::MeshPass(Device& device, VkFormat color_format, VkFormat depth_format)
   preview_ = create_pipeline(device, d);
   d.variant = 1;
   lit_ = create_pipeline(device, d);
+
+  const VkDescriptorSetLayoutBinding env_bindings[] = {
+      {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
+       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, EnvironmentShading::kMaxSources,
+       VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
+  env_layout_ = create_pipeline_layout(device, env_bindings, sizeof(Push));
+  d.vertex = Shader::kMeshEnvVert;
+  d.fragment = Shader::kMeshEnvFrag;
+  d.layout = env_layout_.get();
+  d.variant = 0;
+  d.bindings = {{0, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
+  d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                  {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)}};
+  env_ = create_pipeline(device, d);
 }
 
 MeshPass::GpuMesh MeshPass::upload(FrameContext& ctx,
@@ -70,12 +89,18 @@ MeshPass::GpuMesh MeshPass::upload(FrameContext& ctx,
   copy_to_buffer(ctx.cmd, ctx.ring, mesh->indices.data(), ibytes, g.indices.get());
   g.index_count = static_cast<std::uint32_t>(mesh->indices.size());
   g.vertex_count = static_cast<std::uint32_t>(n);
+  g.lo = g.hi = mesh->positions[0];
+  for (const glm::vec3& p : mesh->positions) {
+    g.lo = glm::min(g.lo, p);
+    g.hi = glm::max(g.hi, p);
+  }
   g.valid = true;
   return g;
 }
 
 void MeshPass::prepare(FrameContext& ctx) {
   draws_.clear();
+  have_bounds_ = false;
   bool uploaded = false;
   for (const MeshDraw& d : ctx.packet.meshes) {
     if (!d.mesh) continue;
@@ -91,6 +116,14 @@ void MeshPass::prepare(FrameContext& ctx) {
     if (d.vertex_lighting && d.vertex_lighting->size() >= g.vertex_count)
       lighting = ctx.ring.upload(d.vertex_lighting->data(), g.vertex_count * sizeof(glm::vec3));
     draws_.push_back({&g, &d, lighting});
+    for (int c = 0; c < 8; ++c) {
+      const glm::vec3 corner((c & 1) ? g.hi.x : g.lo.x, (c & 2) ? g.hi.y : g.lo.y,
+                             (c & 4) ? g.hi.z : g.lo.z);
+      const glm::vec3 w(d.transform * glm::vec4(corner, 1.0f));
+      lo_ = have_bounds_ ? glm::min(lo_, w) : w;
+      hi_ = have_bounds_ ? glm::max(hi_, w) : w;
+      have_bounds_ = true;
+    }
   }
   if (uploaded)
     memory_barrier(
@@ -109,9 +142,34 @@ void MeshPass::prepare(FrameContext& ctx) {
   }
 }
 
+bool MeshPass::bounds(glm::vec3& lo, glm::vec3& hi) const {
+  if (!have_bounds_) return false;
+  lo = lo_;
+  hi = hi_;
+  return true;
+}
+
+void MeshPass::draw_depth(VkCommandBuffer cmd, VkPipelineLayout layout,
+                          const glm::mat4& view_proj) const {
+  for (const Draw& d : draws_) {
+    const VkBuffer buffer = d.mesh->vertices.get();
+    const VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &buffer, &offset);
+    vkCmdBindIndexBuffer(cmd, d.mesh->indices.get(), 0, VK_INDEX_TYPE_UINT32);
+    const glm::mat4 mvp = view_proj * d.draw->transform;
+    vkCmdPushConstants(cmd, layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                       sizeof mvp, glm::value_ptr(mvp));
+    vkCmdDrawIndexed(cmd, d.mesh->index_count, 1, 0, 0, 0);
+  }
+}
+
 void MeshPass::draw(FrameContext& ctx) {
   triangles_ = 0;
   if (draws_.empty()) return;
+  if (ctx.environment != nullptr) {
+    draw_environment(ctx);
+    return;
+  }
   const VkWriteDescriptorSet writes[] = {
       buffer_write(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ctx.camera)};
   int bound = -1;
@@ -134,7 +192,43 @@ void MeshPass::draw(FrameContext& ctx) {
     push.albedo[1] = d.draw->albedo.y;
     push.albedo[2] = d.draw->albedo.z;
     push.albedo[3] = 0.0f;
+    std::memset(push.specular, 0, sizeof push.specular);
     vkCmdPushConstants(ctx.cmd, layout_.get(),
+                       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
+                       &push);
+    vkCmdDrawIndexed(ctx.cmd, d.mesh->index_count, 1, 0, 0, 0);
+    triangles_ += d.mesh->index_count / 3;
+  }
+}
+
+void MeshPass::draw_environment(FrameContext& ctx) {
+  const EnvironmentBindings& e = *ctx.environment;
+  const VkWriteDescriptorSet maps = [&] {
+    VkWriteDescriptorSet w = image_write(2, e.maps);
+    w.descriptorCount = EnvironmentShading::kMaxSources;
+    return w;
+  }();
+  const VkWriteDescriptorSet writes[] = {
+      buffer_write(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ctx.camera),
+      buffer_write(1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &e.block), maps};
+  vkCmdBindPipeline(ctx.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, env_.get());
+  push_descriptors(*device_, ctx.cmd, env_layout_.get(), writes);
+  for (const Draw& d : draws_) {
+    const VkBuffer buffer = d.mesh->vertices.get();
+    const VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(ctx.cmd, 0, 1, &buffer, &offset);
+    vkCmdBindIndexBuffer(ctx.cmd, d.mesh->indices.get(), 0, VK_INDEX_TYPE_UINT32);
+    Push push;
+    std::memcpy(push.model, glm::value_ptr(d.draw->transform), sizeof push.model);
+    const glm::vec3& a = d.draw->albedo;
+    const glm::vec3& s = d.draw->specular;
+    const float exponent = std::max(0.0f, d.draw->specular_exponent);
+    const float on = exponent > 0.0f ? 1.0f : 0.0f;
+    const float albedo[4] = {a.x, a.y, a.z, 0.0f};
+    const float specular[4] = {on * s.x, on * s.y, on * s.z, exponent};
+    std::memcpy(push.albedo, albedo, sizeof albedo);
+    std::memcpy(push.specular, specular, sizeof specular);
+    vkCmdPushConstants(ctx.cmd, env_layout_.get(),
                        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                        &push);
     vkCmdDrawIndexed(ctx.cmd, d.mesh->index_count, 1, 0, 0, 0);

@@ -88,7 +88,8 @@ Unique<VkPipeline> create_pipeline(Device& device, const PipelineDesc& d) {
                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
   VkPipelineColorBlendStateCreateInfo blend = vk_struct<VkPipelineColorBlendStateCreateInfo>(
       VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO);
-  blend.attachmentCount = 1;
+  const bool has_color = d.color_format != VK_FORMAT_UNDEFINED;  // depth-only (shadow maps)
+  blend.attachmentCount = has_color ? 1 : 0;
   blend.pAttachments = &attachment;
   const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
   VkPipelineDynamicStateCreateInfo dynamic = vk_struct<VkPipelineDynamicStateCreateInfo>(
@@ -97,7 +98,7 @@ Unique<VkPipeline> create_pipeline(Device& device, const PipelineDesc& d) {
   dynamic.pDynamicStates = dynamic_states;
   VkPipelineRenderingCreateInfo rendering =
       vk_struct<VkPipelineRenderingCreateInfo>(VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO);
-  rendering.colorAttachmentCount = 1;
+  rendering.colorAttachmentCount = has_color ? 1 : 0;
   rendering.pColorAttachmentFormats = &d.color_format;
   rendering.depthAttachmentFormat = d.depth_format;
 

@@ -54,6 +54,7 @@ Renderer::Renderer(Device& device)
       sky_(device, FrameImages::kHdrFormat, FrameImages::kDepthFormat),
       terrain_(device, FrameImages::kHdrFormat, FrameImages::kDepthFormat),
       meshes_(device, FrameImages::kHdrFormat, FrameImages::kDepthFormat),
+      shadows_(device),
       debug_(device, FrameImages::kHdrFormat, FrameImages::kDepthFormat),
       tonemap_(device, FrameImages::kLdrFormat) {
   for (Frame& f : frames_) {
@@ -131,9 +132,15 @@ void Renderer::record_scene(FrameContext& ctx, Frame& f) {
   sky_.prepare(ctx);
   terrain_.prepare(ctx);
   meshes_.prepare(ctx);
+  shadows_.prepare(ctx, meshes_);
   debug_.prepare(ctx);
   write_camera(ctx);
   f.timer->mark(cmd, "upload");
+  if (shadows_.maps() > 0) {
+    shadows_.record(ctx, meshes_);
+    f.timer->mark(cmd, "shadows");
+  }
+  ctx.environment = shadows_.bindings();
 
   // The previous frame's tonemap read of HDR and its depth tests finish before this frame
   // writes them; old contents are discarded.
@@ -326,6 +333,8 @@ Renderer::Stats Renderer::stats() const {
   s.uploaded = uploaded_;
   s.terrain_triangles = terrain_.triangles();
   s.mesh_triangles = meshes_.triangles();
+  s.shadow_maps = shadows_.maps();
+  s.environment_error = shadows_.error();
   return s;
 }
 

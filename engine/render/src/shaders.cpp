@@ -9,8 +9,12 @@ using std::uint32_t;
 #include "debug_frag.h"
 #include "debug_sphere_vert.h"
 #include "debug_vert.h"
+#include "mesh_env_frag.h"
+#include "mesh_env_vert.h"
 #include "mesh_frag.h"
 #include "mesh_vert.h"
+#include "shadow_frag.h"
+#include "shadow_vert.h"
 #include "sky_frag.h"
 #include "sky_vert.h"
 #include "terrain_frag.h"
@@ -41,6 +45,10 @@ const Entry kShaders[] = {
     entry(debug_frag, "debug.glsl (frag)"),
     entry(tonemap_vert, "tonemap.glsl (vert)"),
     entry(tonemap_frag, "tonemap.glsl (frag)"),
+    entry(mesh_env_vert, "mesh.glsl (vert, MESH_ENVIRONMENT)"),
+    entry(mesh_env_frag, "mesh.glsl (frag, MESH_ENVIRONMENT)"),
+    entry(shadow_vert, "shadow.glsl (vert)"),
+    entry(shadow_frag, "shadow.glsl (frag)"),
 };
 static_assert(std::size(kShaders) == static_cast<std::size_t>(Shader::kCount));
 }  // namespace

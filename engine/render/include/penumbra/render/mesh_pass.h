@@ -9,6 +9,12 @@
 // whose indices are out of range is rejected at upload (not drawn, counted in rejected()).
 // Back faces are culled: counter-clockwise triangles seen from outside are front faces (glTF).
 //
+// Environment shading (EnvironmentShading in packet.h): when FrameContext::environment is set
+// (the shadow pass made its maps this frame), every mesh is drawn with the mesh_env shaders
+// (MESH_ENVIRONMENT in shaders/mesh.glsl: shadow-map tests, OEM set, direct and Blinn terms)
+// instead of the vertex-lit or preview variants. draw_depth() draws the same geometry for the
+// shadow pass, and bounds() is the world box of this frame's draws (the shadow box's input).
+//
 // Threading: render thread only.
 #pragma once
 
@@ -29,6 +35,11 @@ class MeshPass {
   MeshPass(Device& device, VkFormat color_format, VkFormat depth_format);
   void prepare(FrameContext& ctx);
   void draw(FrameContext& ctx);
+  // Every drawn mesh's geometry (positions only) with push constant view_proj * transform, in
+  // the caller's bound pipeline (layout: one mat4 push constant, no descriptors).
+  void draw_depth(VkCommandBuffer cmd, VkPipelineLayout layout, const glm::mat4& view_proj) const;
+  // The world AABB of this frame's draws (each mesh's local box, transformed); false: none.
+  bool bounds(glm::vec3& lo, glm::vec3& hi) const;
 
   std::size_t cached_meshes() const { return cache_.size(); }
   std::size_t rejected() const { return rejected_; }
@@ -41,6 +52,7 @@ class MeshPass {
     Buffer indices;
     std::uint32_t index_count = 0;
     std::uint32_t vertex_count = 0;
+    glm::vec3 lo{0.0f}, hi{0.0f};  // object-space bounds
     std::uint64_t last_used = 0;
     bool valid = false;
   };
@@ -49,15 +61,20 @@ class MeshPass {
     const MeshDraw* draw;
     Slice lighting;  // buffer == VK_NULL_HANDLE: none
   };
+  void draw_environment(FrameContext& ctx);
   GpuMesh upload(FrameContext& ctx, const std::shared_ptr<const data::MeshData>& mesh);
 
   Device* device_;
   PipelineLayout layout_;
   Unique<VkPipeline> preview_;  // variant 0: no vertex lighting
   Unique<VkPipeline> lit_;      // variant 1: vertex lighting
+  PipelineLayout env_layout_;   // camera, EnvironmentBlock, shadow maps
+  Unique<VkPipeline> env_;      // the environment shading (mesh_env shaders)
   std::unordered_map<const data::MeshData*, GpuMesh> cache_;
   std::vector<Draw> draws_;
   std::vector<float> scratch_;
+  glm::vec3 lo_{0.0f}, hi_{0.0f};
+  bool have_bounds_ = false;
   std::size_t rejected_ = 0;
   std::uint64_t triangles_ = 0;
 };

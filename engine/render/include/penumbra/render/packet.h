@@ -40,8 +40,8 @@ struct CameraView {
 
 struct TerrainDraw {
   std::shared_ptr<const data::HeightField> heights;  // null or < 2x2 samples: no terrain
-  glm::vec3 origin{0.0f};  // world position of sample (0, 0) at height 0
-  glm::vec3 albedo{0.5f};  // the shaded colour is albedo * lighting
+  glm::vec3 origin{0.0f};                            // world position of sample (0, 0) at height 0
+  glm::vec3 albedo{0.5f};                            // the shaded colour is albedo * lighting
   // Per-texel lighting: lighting_width * lighting_height linear RGB values, row-major (row =
   // y). Texel (i, j) is centred on the terrain point at fraction (i / (lighting_width - 1),
   // j / (lighting_height - 1)) of its extent, so a texture the size of the height field puts
@@ -53,11 +53,56 @@ struct TerrainDraw {
 
 struct MeshDraw {
   std::shared_ptr<const data::MeshData> mesh;  // positions, normals (optional), indices
-  glm::mat4 transform{1.0f};                     // object -> world
-  glm::vec3 albedo{1.0f};                        // linear; the shaded colour is albedo * lighting
+  glm::mat4 transform{1.0f};                   // object -> world
+  glm::vec3 albedo{1.0f};                      // linear; the shaded colour is albedo * lighting
   // Per-vertex lighting, one linear RGB value per mesh position. Null: the mesh pass shades with
   // a fixed sun and sky from Sky (a preview, not the lighting systems' result).
   std::shared_ptr<const std::vector<glm::vec3>> vertex_lighting;
+  // Glossy reflection, used only by the environment shading (EnvironmentShading): a normalised
+  // Blinn lobe (exponent + 8) / (8 pi) (n.h)^exponent of this reflectance per visible source;
+  // exponent 0: none (Lambertian).
+  glm::vec3 specular{0.04f};
+  float specular_exponent = 0.0f;
+};
+
+// A light source of the environment map drawn as a directional light with a shadow map
+// ([Ambrosj16] sec. 3.6, 4.3).
+struct ShadowedSource {
+  glm::vec3 direction{0.0f, 0.0f, 1.0f};  // world, from the scene towards the source
+  glm::vec3 irradiance{0.0f};             // RGB irradiance at normal incidence
+  std::uint32_t oem_bit = 0;  // the source's bit in the index of EnvironmentShading::oem_sh
+  float weight = 1.0f;        // light switching ([Ambrosj16] sec. 5.2.1): 0 off ... 1 on
+};
+
+// Opt-in per-pixel environment lighting of the meshes ([Ambrosj16] ch. 4, Algorithm 6): one
+// shadow map per source, and per fragment the occluded environment map (OEM) chosen by the
+// shadow-map tests. When enabled with at least one source, every mesh is shaded from this
+// (its vertex_lighting is not used); otherwise the mesh pass is today's (vertex lighting or
+// preview). Used by the mesh pass only (the terrain has its own key light per texel).
+//
+// Per fragment, with V the sources it sees (shadow-map tests, bit k: sources[k]):
+//   direct_diffuse = false ([Ambrosj16] Algorithm 6): diffuse from the OEM with the sources in
+//     V present and the other shadowed sources removed; no direct term;
+//   direct_diffuse = true (default): diffuse from the OEM with every shadowed source removed
+//     plus, per source in V, irradiance * max(0, n.l) (exact cosine, no SH ringing);
+// and in both, per source in V, the Blinn term of MeshDraw::specular with its irradiance.
+// A weight below 1 blends the source linearly towards "off" (never lit, removed from the OEM).
+struct EnvironmentShading {
+  static constexpr std::size_t kMaxSources = 3;  // sources past the third are ignored
+  bool enabled = false;
+  bool direct_diffuse = true;
+  std::vector<ShadowedSource> sources;
+  // The OEM sets: 2^n sets x 3 channels (r, g, b) x 9 coefficients, the 3-band SH (sh/basis.h
+  // order) of the map's radiance in the map's frame, set i holding the sources whose bit is set
+  // in i (components::EnvironmentLight::oem_sh3). n: the bit count (every oem_bit < n).
+  std::shared_ptr<const std::vector<float>> oem_sh;
+  std::uint32_t oem_source_count = 0;
+  // Bits of the sources kept in every fragment's OEM (detected but without a shadow map).
+  std::uint32_t present_mask = 0;
+  float rotation_z = 0.0f;  // radians about +z, the map's (like Sky::environment_rotation)
+  std::uint32_t shadow_map_size = 1024;  // texels per side, clamped to [64, 4096]
+  // Which environment these sets were made from (render_extract re-packs only on a change).
+  std::uint64_t version = 0;
 };
 
 // Debug primitives, drawn unlit with depth test (HDR colours, tonemapped like the scene).
@@ -117,6 +162,7 @@ struct RenderPacket {
   std::vector<LineDraw> lines;
   std::vector<PointDraw> points;
   ViewSettings view;
+  EnvironmentShading environment;
 
   // Empties the per-frame lists, keeping their capacity (camera, sky, terrain, view stay).
   void clear_lists() {

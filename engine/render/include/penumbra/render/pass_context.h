@@ -17,6 +17,13 @@
 
 namespace penumbra::render {
 
+// The environment shading's descriptors for the mesh pass (shadow_pass.h): binding 1, the
+// EnvironmentBlock (shaders/mesh.glsl); binding 2, the shadow maps (unused slots repeat map 0).
+struct EnvironmentBindings {
+  VkDescriptorBufferInfo block{};
+  VkDescriptorImageInfo maps[EnvironmentShading::kMaxSources]{};
+};
+
 struct FrameContext {
   Device& device;
   VkCommandBuffer cmd;
@@ -28,6 +35,8 @@ struct FrameContext {
   VkDescriptorBufferInfo camera;  // the CameraBlock (shaders/common.glsl) for this frame
   glm::mat4 view_proj{1.0f};      // the camera's, for culling on the CPU
   float focal_px = 1.0f;          // pixels per unit of tan(angle) from the view axis
+  // Set by the shadow pass before the scene passes draw; null: no environment shading.
+  const EnvironmentBindings* environment = nullptr;
 };
 
 }  // namespace penumbra::render

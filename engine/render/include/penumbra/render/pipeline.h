@@ -37,7 +37,7 @@ struct PipelineDesc {
   VkPrimitiveTopology topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
   bool primitive_restart = false;  // strips: index 0xFFFFFFFF starts a new strip
   VkCullModeFlags cull = VK_CULL_MODE_NONE;
-  VkFormat color_format = VK_FORMAT_UNDEFINED;
+  VkFormat color_format = VK_FORMAT_UNDEFINED;  // UNDEFINED: no colour attachment (depth only)
   VkFormat depth_format = VK_FORMAT_UNDEFINED;  // UNDEFINED: no depth attachment
   bool depth_test = true;
   bool depth_write = true;

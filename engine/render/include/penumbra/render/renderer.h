@@ -4,8 +4,10 @@
 // and a GPU timestamp mark follows each step, gpu_timer.h; an untimed frame draws the scene
 // passes in one scope):
 //   upload   terrain / mesh / environment uploads, this frame's vertex lighting, debug lists
+//   shadows  one depth map per environment source (shadow_pass.h; only when the packet's
+//            EnvironmentShading is enabled, valid and has sources and meshes)
 //   terrain  clears HDR colour + depth, draws the height field      } HDR image (RGBA16F)
-//   meshes   per-vertex-lit meshes                                   } + reversed depth
+//   meshes   per-vertex-lit meshes (or environment-shaded)          } + reversed depth
 //   debug    wire spheres, lines, points                             }
 //   sky      environment / procedural sky where nothing was drawn    }
 //   tonemap  exposure + filmic -> LDR image (RGBA8, sRGB-encoded)
@@ -29,6 +31,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "penumbra/render/debug_pass.h"
@@ -36,6 +39,7 @@
 #include "penumbra/render/gpu_timer.h"
 #include "penumbra/render/image.h"
 #include "penumbra/render/mesh_pass.h"
+#include "penumbra/render/shadow_pass.h"
 #include "penumbra/render/sky_pass.h"
 #include "penumbra/render/target.h"
 #include "penumbra/render/terrain_pass.h"
@@ -66,6 +70,10 @@ class Renderer {
     VkDeviceSize ring_capacity = 0;  // all frames' upload rings
     VkDeviceSize uploaded = 0;       // ring bytes used by the last frame
     std::uint64_t terrain_triangles = 0, mesh_triangles = 0;  // drawn by the last frame
+    std::size_t shadow_maps = 0;  // environment shadow maps the last frame drew (0: shading off)
+    // Why the last packet's EnvironmentShading was not drawn (check_environment_shading), "" if
+    // it was (or was off); the frame is then drawn as without it.
+    std::string environment_error;
   };
 
   explicit Renderer(Device& device);
@@ -112,6 +120,7 @@ class Renderer {
   SkyPass sky_;
   TerrainPass terrain_;
   MeshPass meshes_;
+  ShadowPass shadows_;
   DebugPass debug_;
   TonemapPass tonemap_;
   std::array<Frame, kFramesInFlight> frames_;

@@ -32,6 +32,10 @@ enum class Shader {
   kDebugFrag,
   kTonemapVert,
   kTonemapFrag,
+  kMeshEnvVert,
+  kMeshEnvFrag,
+  kShadowVert,
+  kShadowFrag,
   kCount
 };
 
