@@ -4,6 +4,7 @@
 
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
+#include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/material.h"
 #include "penumbra/components/mesh.h"
@@ -20,6 +21,7 @@ using components::DebugLines;
 using components::DebugPoint;
 using components::DebugPoints;
 using components::DebugSphere;
+using components::EnvironmentLight;
 using components::Material;
 using components::MeshInstance;
 using components::ReceiverLighting;
@@ -49,6 +51,42 @@ std::shared_ptr<const data::HeightField> scaled_heights(const Terrain& t,
   if (cache) *cache = {t.heights, t.height_scale, f};
   return f;
 }
+
+// packet.environment from the EnvironmentLight resource (RenderSettings::environment); the OEM
+// sets are re-packed only when the environment's version changes.
+void extract_environment(const ecs::World& world, const EnvironmentShadingSettings& settings,
+                         render::EnvironmentShading& out) {
+  out.enabled = settings.enabled;
+  out.sources.clear();
+  out.direct_diffuse = settings.direct_diffuse;
+  out.shadow_map_size = settings.shadow_map_size;
+  const EnvironmentLight* env =
+      settings.enabled ? world.try_resource<const EnvironmentLight>() : nullptr;
+  if (env == nullptr) return;
+  const std::size_t keys = components::key_light_mask(*env, settings.max_angular_radius);
+  const std::size_t n = env->sources.size();
+  if (keys == 0 || env->oem_sh3.size() != (std::size_t{1} << n)) return;
+  std::uint32_t shadowed = 0;
+  for (std::size_t j = 0; j < n && out.sources.size() < render::EnvironmentShading::kMaxSources;
+       ++j) {
+    if (!(keys >> j & 1)) continue;
+    const auto& s = env->sources[j];
+    out.sources.push_back({components::world_direction(s, env->rotation_z), s.irradiance,
+                           static_cast<std::uint32_t>(j), settings.weight[out.sources.size()]});
+    shadowed |= 1u << j;
+  }
+  out.present_mask = ((1u << n) - 1) & ~shadowed;
+  out.rotation_z = env->rotation_z;
+  if (!out.oem_sh || out.version != env->version || out.oem_source_count != n) {
+    auto sets = std::make_shared<std::vector<float>>();
+    sets->reserve(env->oem_sh3.size() * 27);
+    for (const auto& set : env->oem_sh3)
+      for (const auto& channel : set) sets->insert(sets->end(), channel.begin(), channel.end());
+    out.oem_sh = std::move(sets);
+    out.oem_source_count = static_cast<std::uint32_t>(n);
+    out.version = env->version;
+  }
+}
 }  // namespace
 
 void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
@@ -56,10 +94,13 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
   packet.clear_lists();
   const Camera* camera = world.try_resource<const Camera>();
   packet.camera = to_render(camera ? *camera : Camera{});
-  if (const RenderSettings* s = world.try_resource<const RenderSettings>()) {
-    packet.sky = s->sky;
-    packet.view = s->view;
+  const RenderSettings* settings = world.try_resource<const RenderSettings>();
+  if (settings) {
+    packet.sky = settings->sky;
+    packet.view = settings->view;
   }
+  extract_environment(world, settings ? settings->environment : EnvironmentShadingSettings{},
+                      packet.environment);
 
   packet.terrain = {};
   bool have_terrain = false;
@@ -85,6 +126,7 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
     const BaseColor* c = world.get<BaseColor>(e);
     const Material* mat = world.get<Material>(e);
     d.albedo = mat ? mat->albedo : c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
+    if (mat && mat->phong_exponent > 0) d.specular_exponent = 4.0f * mat->phong_exponent;
     if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
     // One-bounce light from spherical lights ([Guerrero08] eq. 12), its own term in
     // ReceiverLighting: added here as radiance per unit albedo, E / pi.
@@ -117,7 +159,8 @@ jobs::SystemBuilder add_render_extract(jobs::Schedule& schedule) {
                   extract_render_packet(w, w.resource<render::RenderPacket>(), cache.get());
                 })
       .reads<Camera, RenderSettings, Terrain, TerrainLighting, Transform, MeshInstance, BaseColor,
-             Material, VertexLighting, ReceiverLighting, DebugSphere, DebugLines, DebugPoints>()
+             Material, VertexLighting, ReceiverLighting, DebugSphere, DebugLines, DebugPoints,
+             EnvironmentLight>()
       .writes<render::RenderPacket>();
 }
 

@@ -5,7 +5,11 @@
 //   Terrain [+ TerrainLighting]                       -> packet.terrain (the first such entity;
 //                                                       heights x height_scale)
 //   Transform + MeshInstance [+ Material or BaseColor (albedo), VertexLighting] -> packet.meshes
+//                                                     (Material::phong_exponent r > 0: a Blinn
+//                                                     lobe of exponent 4r, reflectance 0.04)
 //   DebugSphere, DebugLines, DebugPoints              -> packet.spheres, lines, points
+//   EnvironmentLight (resource) when RenderSettings::environment.enabled
+//                                                     -> packet.environment (below)
 // Large arrays are shared by pointer (no copies); the packet's lists keep their capacity from
 // frame to frame. It is the packet's only writer: whatever is to be drawn, debug geometry
 // included, arrives as components (components/debug_shapes.h), the way Filament's
@@ -17,6 +21,8 @@
 // Threading: a task system (one thread); it only reads components.
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <memory>
 
 #include "penumbra/data/height_field.h"
@@ -26,11 +32,29 @@
 
 namespace penumbra::systems {
 
+// The renderer's per-pixel environment shading of the meshes (render::EnvironmentShading,
+// [Ambrosj16] ch. 4; docs/environment.md "Renderer"), filled from the EnvironmentLight
+// resource. Off by default: the packet's environment is then disabled and the meshes are drawn
+// from their vertex lighting as before. On, the sources no wider than max_angular_radius get a
+// shadow map (the first three, brightest first: components::key_light_mask), the other
+// sources stay in every fragment's OEM; nothing is drawn differently until the environment
+// stage has found sources for the current map (sources_version == version, all OEM sets).
+struct EnvironmentShadingSettings {
+  bool enabled = false;
+  bool direct_diffuse = true;       // render::EnvironmentShading::direct_diffuse
+  float max_angular_radius = 0.2f;  // radians, as the terrain's and blockers' key lights
+  // Light switching ([Ambrosj16] sec. 5.2.1), per shadowed source: 0 off ... 1 on; a value in
+  // between blends (ramp it over frames to fade a source in or out).
+  std::array<float, render::EnvironmentShading::kMaxSources> weight{1.0f, 1.0f, 1.0f};
+  std::uint32_t shadow_map_size = 1024;  // texels per side
+};
+
 // Resource: how to show the frame (sky, exposure, debug views), edited by the game and the
 // ImGui overlay.
 struct RenderSettings {
   render::Sky sky;
   render::ViewSettings view;
+  EnvironmentShadingSettings environment;
 };
 
 // Adds the RenderPacket and RenderSettings resources when absent.
