@@ -200,12 +200,16 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 #endif
       sweep_azimuth(field, params, region, k, sc, plane);
     }
+#ifdef __AVX2__
+    detail::texel_records(planes.data(), region.count(), region, k0, k1, out);
+#else
     std::size_t i = 0;
     for (int y = region.y0; y < region.y1; ++y)
       for (int x = region.x0; x < region.x1; ++x, ++i) {
         float* dst = out.texel(x, y) + k0;
         for (int k = k0; k < k1; ++k) dst[k - k0] = planes[(k - k0) * region.count() + i];
       }
+#endif
   });
 }
 

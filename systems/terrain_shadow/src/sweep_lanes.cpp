@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "fast_math.h"
@@ -16,8 +17,31 @@
 namespace penumbra::terrain_shadow::detail {
 namespace {
 
-constexpr int kPad = 8;     // zero samples either side of a padded column
-constexpr int kAccPad = 9;  // accumulator slots either side of the region's minor range
+constexpr int kPad = kGroupLines;          // zero samples either side of a padded column
+constexpr int kAccPad = kGroupLines + 8;   // accumulator slots either side of the minor range
+constexpr int kVectors = kGroupLines / 8;  // AVX2 vectors per group
+// A recorded receiver's angles: 8 zero slots, then its kGroupLines lanes (the zeros let the
+// scatter read "the lane below" with one unaligned load).
+constexpr int kRecord = kGroupLines + 8;
+
+// m[i][j] <- m[j][i].
+inline void transpose8(__m256 m[8]) {
+  __m256 t[8], s[8];
+  for (int i = 0; i < 8; i += 2) {
+    t[i] = _mm256_unpacklo_ps(m[i], m[i + 1]);
+    t[i + 1] = _mm256_unpackhi_ps(m[i], m[i + 1]);
+  }
+  for (int i = 0; i < 8; i += 4) {
+    s[i] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(1, 0, 1, 0));
+    s[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(3, 2, 3, 2));
+    s[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(1, 0, 1, 0));
+    s[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  for (int i = 0; i < 4; ++i) {
+    m[i] = _mm256_permute2f128_ps(s[i], s[i + 4], 0x20);
+    m[i + 4] = _mm256_permute2f128_ps(s[i], s[i + 4], 0x31);
+  }
+}
 
 }  // namespace
 
@@ -50,25 +74,29 @@ struct Sweep {
         clamp(p.clamp_at_zero),
         scale(p.height_scale) {}
 
-  // First line of the group holding line c: groups start at multiples of 8, so a line's lane
-  // (and its arithmetic) never depends on which lines or region were asked for.
-  static int group_of(int c) { return c >= 0 ? c / 8 * 8 : -((-c + 7) / 8 * 8); }
+  // First line of the group holding line c: groups start at multiples of kGroupLines, so a
+  // line's lane (and its arithmetic) never depends on which lines or region were asked for.
+  static int group_of(int c) {
+    return c >= 0 ? c / kGroupLines * kGroupLines
+                  : -((-c + kGroupLines - 1) / kGroupLines * kGroupLines);
+  }
   int far_end() const { return frame.step > 0 ? frame.major_size - 1 : 0; }
 
-  // Sweeps lines cg..cg+7 from the far end of the field down to u_stop, recording the
-  // receivers with major coordinate in [rec_lo, rec_hi) as angles; returns how many.
+  // Sweeps lines cg..cg+kGroupLines-1 from the far end of the field down to u_stop, recording
+  // the receivers with major coordinate in [rec_lo, rec_hi) as angles; returns how many.
   std::size_t run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScratch& sc) const;
 };
 
 std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScratch& sc) const {
-  // Columns where any of the eight lines is inside the field (widened by one).
+  constexpr int W = kGroupLines, G = kVectors;
+  // Columns where any of the group's lines is inside the field (widened by one).
   int ua = 0, ub = frame.major_size - 1;
   if (frame.slope != 0) {
-    const double e[4] = {-cg / frame.slope, (bmax - cg) / frame.slope, -(cg + 7) / frame.slope,
-                         (bmax - cg - 7) / frame.slope};
+    const double e[4] = {-cg / frame.slope, (bmax - cg) / frame.slope, -(cg + W - 1) / frame.slope,
+                         (bmax - cg - W + 1) / frame.slope};
     ua = std::max(ua, static_cast<int>(std::floor(*std::min_element(e, e + 4))) - 1);
     ub = std::min(ub, static_cast<int>(std::ceil(*std::max_element(e, e + 4))) + 1);
-  } else if (cg + 7 < 0 || cg > bmax) {
+  } else if (cg + W - 1 < 0 || cg > bmax) {
     return 0;
   }
   if (frame.step > 0)
@@ -78,116 +106,162 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
   if (ua > ub) return 0;
 
   const std::size_t cap = static_cast<std::size_t>(frame.major_size);
-  sc.hull_h.resize(cap * 8), sc.hull_j.resize(cap * 8), sc.slope.resize(cap * 8);
-  sc.rec_u.resize(cap), sc.rec_b.resize(cap), sc.rec_t.resize(cap), sc.rec_valid.resize(cap);
+  if (sc.hull_h.size() < cap * W) {
+    sc.hull_h.resize(cap * W), sc.hull_j.resize(cap * W), sc.slope.resize(cap * kRecord + 16);
+    sc.rec_u.resize(cap), sc.rec_b.resize(cap), sc.rec_t.resize(cap), sc.rec_valid.resize(cap);
+  }
+  float* hull_h = sc.hull_h.data();
+  float* hull_j = sc.hull_j.data();
   const __m256 vscale = _mm256_set1_ps(scale), mps = _mm256_set1_ps(frame.metres_per_step);
-  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  __m256i lane[G];
+  for (int g = 0; g < G; ++g)
+    lane[g] = _mm256_add_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(8 * g));
   const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
-  auto index = [&](__m256i top, int below) {  // hull slot top - below of every lane, >= 0
+  auto index = [&](__m256i top, int below, int g) {  // hull slot top - below, >= 0
     const __m256i d =
         _mm256_max_epi32(_mm256_sub_epi32(top, _mm256_set1_epi32(below)), _mm256_setzero_si256());
-    return _mm256_add_epi32(_mm256_slli_epi32(d, 3), lane);
+    return _mm256_add_epi32(_mm256_mullo_epi32(d, _mm256_set1_epi32(W)), lane[g]);
   };
 
-  __m256i top = _mm256_setzero_si256();  // hull size per lane
-  // The top two hull points of every lane live in registers (a = top - 1, b = top - 2): the
-  // common step (no pop, or one) then reads no memory; the hull arrays hold the full stacks.
-  __m256 ah = _mm256_setzero_ps(), aj = _mm256_setzero_ps();
-  __m256 bh = _mm256_setzero_ps(), bj = _mm256_setzero_ps();
+  // Per vector: hull size per lane, and the top three hull points in registers (a = top - 1,
+  // b = top - 2, c = top - 3): a pop needs only a and b, and the gather that refills c after a
+  // pop is not on the path to the next comparison. The hull arrays hold the full stacks.
+  __m256i top[G];
+  __m256 ah[G], aj[G], bh[G], bj[G], ch[G], cj[G];
+  for (int g = 0; g < G; ++g) {
+    top[g] = _mm256_setzero_si256();
+    ah[g] = aj[g] = bh[g] = bj[g] = ch[g] = cj[g] = _mm256_setzero_ps();
+  }
   std::size_t records = 0;
   const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
   for (int u = u_start;; u -= frame.step) {
     const double base = cg + frame.slope * u;  // lane l sits at base + l
     const int b0 = static_cast<int>(std::floor(base));
-    if (b0 + 7 >= 0 && b0 <= bmax) {
+    if (b0 + W - 1 >= 0 && b0 <= bmax) {
       const float t = static_cast<float>(base - b0);
-      const __m256i b = _mm256_add_epi32(_mm256_set1_epi32(b0), lane);
-      // Inside the field: 0 <= b + t <= bmax (as AzimuthFrame::height_at).
-      __m256i ok = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), b),
-                                       _mm256_cmpgt_epi32(_mm256_set1_epi32(bmax), b));
-      if (t == 0.0f) ok = _mm256_or_si256(ok, _mm256_cmpeq_epi32(b, _mm256_set1_epi32(bmax)));
-      const __m256 valid = _mm256_castsi256_ps(ok);
-      const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
-      const __m256 h0 = _mm256_loadu_ps(col), h1 = _mm256_loadu_ps(col + 1);
-      const __m256 h =
-          _mm256_mul_ps(vscale, _mm256_fmadd_ps(_mm256_set1_ps(t), _mm256_sub_ps(h1, h0), h0));
       const float jf = static_cast<float>(frame.step * u);
-      const __m256 j = _mm256_set1_ps(jf);
+      const __m256 j = _mm256_set1_ps(jf), vt = _mm256_set1_ps(t);
+      const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
+      __m256i ok[G];
+      __m256 valid[G], h[G];
+      for (int g = 0; g < G; ++g) {
+        const __m256i b = _mm256_add_epi32(_mm256_set1_epi32(b0), lane[g]);
+        // Inside the field: 0 <= b + t <= bmax (as AzimuthFrame::height_at).
+        ok[g] = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), b),
+                                    _mm256_cmpgt_epi32(_mm256_set1_epi32(bmax), b));
+        if (t == 0.0f)
+          ok[g] = _mm256_or_si256(ok[g], _mm256_cmpeq_epi32(b, _mm256_set1_epi32(bmax)));
+        valid[g] = _mm256_castsi256_ps(ok[g]);
+        const __m256 h0 = _mm256_loadu_ps(col + 8 * g), h1 = _mm256_loadu_ps(col + 8 * g + 1);
+        h[g] = _mm256_mul_ps(vscale, _mm256_fmadd_ps(vt, _mm256_sub_ps(h1, h0), h0));
+      }
       // Pop while the second point is at least as steep as the top (compared without
-      // dividing; Timonen 2010, sec. 4), on every lane that still needs it.
+      // dividing; Timonen 2010, sec. 4), on every lane that still needs it; the G vectors'
+      // chains are independent, so their latencies overlap.
       for (;;) {
-        const __m256 can = _mm256_and_ps(
-            valid, _mm256_castsi256_ps(_mm256_cmpgt_epi32(top, _mm256_set1_epi32(1))));
-        const __m256 lhs = _mm256_mul_ps(_mm256_sub_ps(bh, h), _mm256_sub_ps(aj, j));
-        const __m256 rhs = _mm256_mul_ps(_mm256_sub_ps(ah, h), _mm256_sub_ps(bj, j));
-        const __m256 pop = _mm256_and_ps(can, _mm256_cmp_ps(lhs, rhs, _CMP_GE_OQ));
-        if (_mm256_testz_ps(pop, pop)) break;
-        top = _mm256_add_epi32(top, _mm256_castps_si256(pop));  // -1 where popping
-        ah = _mm256_blendv_ps(ah, bh, pop);
-        aj = _mm256_blendv_ps(aj, bj, pop);
-        const __m256i i2 = index(top, 2);  // the new second point, from memory
-        bh = _mm256_blendv_ps(bh, _mm256_i32gather_ps(sc.hull_h.data(), i2, 4), pop);
-        bj = _mm256_blendv_ps(bj, _mm256_i32gather_ps(sc.hull_j.data(), i2, 4), pop);
+        __m256 pop[G];
+        __m256 any = _mm256_setzero_ps();
+        for (int g = 0; g < G; ++g) {
+          const __m256 can = _mm256_and_ps(
+              valid[g], _mm256_castsi256_ps(_mm256_cmpgt_epi32(top[g], _mm256_set1_epi32(1))));
+          const __m256 lhs = _mm256_mul_ps(_mm256_sub_ps(bh[g], h[g]), _mm256_sub_ps(aj[g], j));
+          const __m256 rhs = _mm256_mul_ps(_mm256_sub_ps(ah[g], h[g]), _mm256_sub_ps(bj[g], j));
+          pop[g] = _mm256_and_ps(can, _mm256_cmp_ps(lhs, rhs, _CMP_GE_OQ));
+          any = _mm256_or_ps(any, pop[g]);
+        }
+        if (_mm256_testz_ps(any, any)) break;
+        for (int g = 0; g < G; ++g) {
+          top[g] = _mm256_add_epi32(top[g], _mm256_castps_si256(pop[g]));  // -1 where popping
+          ah[g] = _mm256_blendv_ps(ah[g], bh[g], pop[g]);
+          aj[g] = _mm256_blendv_ps(aj[g], bj[g], pop[g]);
+          bh[g] = _mm256_blendv_ps(bh[g], ch[g], pop[g]);
+          bj[g] = _mm256_blendv_ps(bj[g], cj[g], pop[g]);
+          const __m256i i3 = index(top[g], 3, g);  // the new third point, from memory
+          ch[g] = _mm256_mask_i32gather_ps(ch[g], hull_h, i3, pop[g], 4);
+          cj[g] = _mm256_mask_i32gather_ps(cj[g], hull_j, i3, pop[g], 4);
+        }
       }
       if (u >= rec_lo && u < rec_hi) {
-        const __m256i has = _mm256_and_si256(ok, _mm256_cmpgt_epi32(top, _mm256_setzero_si256()));
-        const __m256 s =
-            _mm256_div_ps(_mm256_sub_ps(ah, h), _mm256_mul_ps(_mm256_sub_ps(aj, j), mps));
-        // Nothing ahead: -inf (atan -pi/2); outside the field: 0 (weight 0, kept finite).
-        const __m256 v = _mm256_blendv_ps(minus_inf, s, _mm256_castsi256_ps(has));
-        _mm256_storeu_ps(sc.slope.data() + records * 8, _mm256_and_ps(v, valid));
+        std::uint32_t bits = 0;
+        for (int g = 0; g < G; ++g) {
+          const __m256i has =
+              _mm256_and_si256(ok[g], _mm256_cmpgt_epi32(top[g], _mm256_setzero_si256()));
+          const __m256 s = _mm256_div_ps(_mm256_sub_ps(ah[g], h[g]),
+                                         _mm256_mul_ps(_mm256_sub_ps(aj[g], j), mps));
+          // Nothing ahead: -inf (atan -pi/2); outside the field: 0 (weight 0, kept finite).
+          const __m256 v = _mm256_blendv_ps(minus_inf, s, _mm256_castsi256_ps(has));
+          _mm256_storeu_ps(sc.slope.data() + records * kRecord + 8 + 8 * g,
+                           _mm256_and_ps(v, valid[g]));
+          bits |= static_cast<std::uint32_t>(_mm256_movemask_ps(valid[g])) << (8 * g);
+        }
         sc.rec_u[records] = u;
         sc.rec_b[records] = b0;
         sc.rec_t[records] = t;
-        sc.rec_valid[records] = static_cast<unsigned char>(_mm256_movemask_ps(valid));
+        sc.rec_valid[records] = bits;
         ++records;
       }
-      // Push on the lanes inside the field. AVX2 has no scatter: eight scalar stores, on every
-      // lane (a lane outside the field writes above its stack, which its top does not reach).
-      alignas(32) float hv[8];
-      alignas(32) int tv[8];
-      _mm256_store_ps(hv, h);
-      _mm256_store_si256(reinterpret_cast<__m256i*>(tv), top);
-      for (int l = 0; l < 8; ++l) {
-        sc.hull_h[static_cast<std::size_t>(tv[l]) * 8 + l] = hv[l];
-        sc.hull_j[static_cast<std::size_t>(tv[l]) * 8 + l] = jf;
+      // Push on the lanes inside the field. AVX2 has no scatter: scalar stores, on every lane
+      // (a lane outside the field writes above its stack, which its top does not reach).
+      for (int g = 0; g < G; ++g) {
+        alignas(32) float hv[8];
+        alignas(32) int tv[8];
+        _mm256_store_ps(hv, h[g]);
+        _mm256_store_si256(
+            reinterpret_cast<__m256i*>(tv),
+            _mm256_add_epi32(_mm256_mullo_epi32(top[g], _mm256_set1_epi32(W)), lane[g]));
+        for (int l = 0; l < 8; ++l) {
+          hull_h[tv[l]] = hv[l];
+          hull_j[tv[l]] = jf;
+        }
+        top[g] = _mm256_sub_epi32(top[g], _mm256_castps_si256(valid[g]));  // +1 where valid
+        ch[g] = _mm256_blendv_ps(ch[g], bh[g], valid[g]);
+        cj[g] = _mm256_blendv_ps(cj[g], bj[g], valid[g]);
+        bh[g] = _mm256_blendv_ps(bh[g], ah[g], valid[g]);
+        bj[g] = _mm256_blendv_ps(bj[g], aj[g], valid[g]);
+        ah[g] = _mm256_blendv_ps(ah[g], h[g], valid[g]);
+        aj[g] = _mm256_blendv_ps(aj[g], j, valid[g]);
       }
-      top = _mm256_sub_epi32(top, _mm256_castps_si256(valid));  // +1 where valid
-      bh = _mm256_blendv_ps(bh, ah, valid);
-      bj = _mm256_blendv_ps(bj, aj, valid);
-      ah = _mm256_blendv_ps(ah, h, valid);
-      aj = _mm256_blendv_ps(aj, j, valid);
     }
     if (u == u_end) break;
   }
-  fast_atan_array(sc.slope.data(), records * 8);
+  fast_atan_array(sc.slope.data(), records * kRecord);  // the zero slots stay 0
   if (clamp)
-    for (std::size_t i = 0; i < records * 8; ++i) sc.slope[i] = std::max(sc.slope[i], 0.0f);
+    for (std::size_t i = 0; i < records * kRecord; ++i) sc.slope[i] = std::max(sc.slope[i], 0.0f);
   return records;
 }
 
 // Adds a group's records into acc / weight (layout [u - u0][v - v0 + kAccPad], `row` floats per
 // u): lane l's line lies t above texel b0 + l and 1 - t below texel b0 + l + 1.
 void scatter(LaneScratch& sc, std::size_t records, int u0, int v0, int v1, int row) {
+  constexpr int W = kGroupLines;
   float* acc_base = sc.acc.data();
   float* wgt_base = sc.weight.data();
   const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  auto lanes_of = [&](std::uint64_t m) {  // eight lane bits as a mask
+    return _mm256_castsi256_ps(
+        _mm256_cmpgt_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(m & 255u)), bits),
+                           _mm256_setzero_si256()));
+  };
   for (std::size_t i = 0; i < records; ++i) {
     const int b0 = sc.rec_b[i];
-    if (b0 + 8 < v0 || b0 >= v1) continue;
-    const __m256 angle = _mm256_loadu_ps(sc.slope.data() + i * 8);
-    const __m256 valid = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-        _mm256_and_si256(_mm256_set1_epi32(sc.rec_valid[i]), bits), _mm256_setzero_si256()));
+    if (b0 + W < v0 || b0 >= v1) continue;
     const float t = sc.rec_t[i];
-    const __m256 w_lo = _mm256_and_ps(valid, _mm256_set1_ps(1.0f - t));
-    const __m256 w_hi = t > 0 ? _mm256_and_ps(valid, _mm256_set1_ps(t)) : _mm256_setzero_ps();
-    const std::size_t at = static_cast<std::size_t>(sc.rec_u[i] - u0) * row + (b0 - v0 + kAccPad);
-    float* acc = acc_base + at;
-    float* wgt = wgt_base + at;
-    _mm256_storeu_ps(acc, _mm256_fmadd_ps(w_lo, angle, _mm256_loadu_ps(acc)));
-    _mm256_storeu_ps(wgt, _mm256_add_ps(_mm256_loadu_ps(wgt), w_lo));
-    _mm256_storeu_ps(acc + 1, _mm256_fmadd_ps(w_hi, angle, _mm256_loadu_ps(acc + 1)));
-    _mm256_storeu_ps(wgt + 1, _mm256_add_ps(_mm256_loadu_ps(wgt + 1), w_hi));
+    const __m256 lo = _mm256_set1_ps(1.0f - t), hi = _mm256_set1_ps(t);
+    const std::uint64_t below = sc.rec_valid[i], above = below << 1;
+    const float* angle = sc.slope.data() + i * kRecord + 8;
+    float* acc = acc_base + static_cast<std::size_t>(sc.rec_u[i] - u0) * row + (b0 - v0 + kAccPad);
+    float* wgt = wgt_base + (acc - acc_base);
+    // Texel b0 + m: t times lane m - 1's angle (its line lies below), then 1 - t times lane m's
+    // (above), in the scalar sweep's order; one store per slot, no overlapping stores.
+    for (int g = 0; g <= kVectors; ++g) {
+      const __m256 w_hi = _mm256_and_ps(lanes_of(above >> (8 * g)), hi);
+      const __m256 w_lo = _mm256_and_ps(lanes_of(below >> (8 * g)), lo);
+      const __m256 a =
+          _mm256_fmadd_ps(w_hi, _mm256_loadu_ps(angle + 8 * g - 1), _mm256_loadu_ps(acc + 8 * g));
+      _mm256_storeu_ps(acc + 8 * g, _mm256_fmadd_ps(w_lo, _mm256_loadu_ps(angle + 8 * g), a));
+      _mm256_storeu_ps(wgt + 8 * g,
+                       _mm256_add_ps(_mm256_add_ps(_mm256_loadu_ps(wgt + 8 * g), w_hi), w_lo));
+    }
   }
 }
 
@@ -214,17 +288,54 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   const double hi = std::max((v1 - 1) - frame.slope * u0, (v1 - 1) - frame.slope * (u1 - 1));
   const int c_lo = static_cast<int>(std::floor(lo)) - 1, c_hi = static_cast<int>(std::ceil(hi)) + 1;
   const int u_near = frame.step > 0 ? u0 : u1 - 1;  // sweep down to the region's near edge
-  for (int cg = Sweep::group_of(c_lo); cg <= c_hi; cg += 8)
+  for (int cg = Sweep::group_of(c_lo); cg <= c_hi; cg += kGroupLines)
     scatter(sc, sw.run_group(cg, u_near, u0, u1, sc), u0, v0, v1, row);
 
-  const int w = r.width();
-  for (int u = u0; u < u1; ++u)
-    for (int v = v0; v < v1; ++v) {
-      const std::size_t i = static_cast<std::size_t>(u - u0) * row + (v - v0 + kAccPad);
-      const int x = frame.x_major ? u : v, y = frame.x_major ? v : u;
-      plane[static_cast<std::size_t>(y - r.y0) * w + (x - r.x0)] =
-          sc.weight[i] > 0 ? sc.acc[i] / sc.weight[i] : 0.0f;
+  // acc / weight, 8 x 8 blocks at a time (transposed in registers where u is x).
+  const int w = r.width(), nu = u1 - u0, nv = v1 - v0;
+  const float* acc = sc.acc.data() + kAccPad;
+  const float* wgt = sc.weight.data() + kAccPad;
+  auto value = [&](std::size_t i) { return wgt[i] > 0 ? acc[i] / wgt[i] : 0.0f; };
+  auto at = [&](int u, int v) {  // plane index of (u, v), relative to the region
+    return frame.x_major ? static_cast<std::size_t>(v) * w + u
+                         : static_cast<std::size_t>(u) * w + v;
+  };
+  const int nu8 = nu / 8 * 8, nv8 = nv / 8 * 8;
+  for (int u = 0; u < nu8; u += 8)
+    for (int v = 0; v < nv8; v += 8) {
+      __m256 m[8];
+      for (int i = 0; i < 8; ++i) {
+        const std::size_t q = static_cast<std::size_t>(u + i) * row + v;
+        const __m256 a = _mm256_loadu_ps(acc + q), b = _mm256_loadu_ps(wgt + q);
+        m[i] =
+            _mm256_and_ps(_mm256_div_ps(a, b), _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_GT_OQ));
+      }
+      if (frame.x_major) transpose8(m);
+      for (int i = 0; i < 8; ++i)
+        _mm256_storeu_ps(plane + (frame.x_major ? at(u, v + i) : at(u + i, v)), m[i]);
     }
+  for (int u = 0; u < nu; ++u)
+    for (int v = u < nu8 ? nv8 : 0; v < nv; ++v)
+      plane[at(u, v)] = value(static_cast<std::size_t>(u) * row + v);
+}
+
+void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
+                   HorizonGrid& out) {
+  std::size_t i = 0;
+  const bool blocks = (k1 - k0) % 8 == 0;
+  for (int y = r.y0; y < r.y1; ++y) {
+    int x = r.x0;
+    if (blocks)
+      for (; x + 8 <= r.x1; x += 8, i += 8)
+        for (int kb = 0; kb < k1 - k0; kb += 8) {
+          __m256 m[8];
+          for (int k = 0; k < 8; ++k) m[k] = _mm256_loadu_ps(planes + (kb + k) * count + i);
+          transpose8(m);
+          for (int l = 0; l < 8; ++l) _mm256_storeu_ps(out.texel(x + l, y) + k0 + kb, m[l]);
+        }
+    for (; x < r.x1; ++x, ++i)
+      for (int k = k0; k < k1; ++k) out.texel(x, y)[k] = planes[(k - k0) * count + i];
+  }
 }
 
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
@@ -263,7 +374,7 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
     }
   }
   const int u_near = frame.step > 0 ? 0 : major - 1;
-  for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += 8)
+  for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += kGroupLines)
     scatter(sc, sw.run_group(cg, u_near, 0, major, sc), 0, 0, minor, row);
 
   std::size_t pairs = 0;

@@ -1,23 +1,30 @@
-// Internal: the line sweep eight lines at a time on AVX2 lanes (horizon_sweep.cpp chooses it
-// when the build targets AVX2, the project's default x86-64-v3).
+// Internal: the line sweep kGroupLines (16) lines at a time on AVX2 lanes (horizon_sweep.cpp
+// chooses it when the build targets AVX2, the project's default x86-64-v3).
 //
-// Lines c, c+1, ..., c+7 of one azimuth cross column u at minor coordinates base + l with the
-// same fraction t, so their samples are eight consecutive heights of a column (two unaligned
-// loads from a copy of the field whose minor axis is contiguous), their hull updates run as
-// masked vector steps (pops without branches per line), and their receivers scatter into eight
-// consecutive texels. Same samples and same arithmetic as the scalar sweep, so results agree
-// with brute_force_horizons(kSweepLines) to float precision (tested).
+// Lines c, c+1, ..., c+15 of one azimuth cross column u at minor coordinates base + l with the
+// same fraction t, so their samples are consecutive heights of a column (unaligned loads from a
+// copy of the field whose minor axis is contiguous), their hull updates run as masked vector
+// steps (pops without branches per line; two vectors whose dependency chains overlap), and
+// their receivers scatter into consecutive texels. Same samples and same arithmetic as the
+// scalar sweep, so results agree with brute_force_horizons(kSweepLines) to float precision
+// (tested). Why 16 lines and three hull points in registers: docs/terrain_shadow.md, "Speed
+// toward the floors".
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "penumbra/systems/terrain_shadow/horizon.h"
 
 namespace penumbra::terrain_shadow::detail {
 
-// The field twice, each with the minor axis of one kind of azimuth contiguous and 8 samples of
-// zero padding on either side: x_major[x * stride_x + 8 + y], y_major[y * stride_y + 8 + x].
+// Lines per group: kGroupLines / 8 AVX2 vectors of neighbouring lines step together.
+inline constexpr int kGroupLines = 16;
+
+// The field twice, each with the minor axis of one kind of azimuth contiguous and kGroupLines
+// samples of zero padding on either side: x_major[x * stride_x + kGroupLines + y], y_major
+// likewise.
 struct LaneFields {
   std::vector<float> x_major, y_major;
   int stride_x = 0, stride_y = 0;
@@ -26,11 +33,11 @@ struct LaneFields {
 
 struct LaneScratch {
   std::vector<float> acc, weight;     // (major, minor + padding) layout
-  std::vector<float> hull_h, hull_j;  // [depth * 8 + lane]
-  std::vector<float> slope;           // recorded receivers: [record * 8 + lane]
+  std::vector<float> hull_h, hull_j;  // [depth * kGroupLines + lane]
+  std::vector<float> slope;           // recorded receivers: 8 zeros, then kGroupLines lanes
   std::vector<int> rec_u, rec_b;
   std::vector<float> rec_t;
-  std::vector<unsigned char> rec_valid;  // lane bits
+  std::vector<std::uint32_t> rec_valid;  // lane bits
 };
 
 // Azimuth k of the region into `plane` (region-sized, row-major in x, y): the contract of the
@@ -42,6 +49,12 @@ void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
 void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
                            const HorizonParams& p, const TexelRect& r, double phi, LaneScratch& sc,
                            float* plane);
+
+// Writes the planes of azimuths [k0, k1) (each region-sized, row-major in x, y; plane k at
+// planes + (k - k0) * count) into the texels' records of `out`, 8 x 8 blocks transposed in
+// registers when k1 - k0 is a multiple of 8.
+void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
+                   HorizonGrid& out);
 
 // Recomputes azimuth k of every texel whose sweep lines pass within a sample of `edited`,
 // exactly as a full sweep_horizons would, writing `out` (sized to the field) and setting
