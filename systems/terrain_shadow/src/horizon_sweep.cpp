@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include "fast_math.h"
@@ -253,10 +254,11 @@ std::size_t sweep_horizons_through(const data::HeightField& field, const Horizon
 #ifdef __AVX2__
   const detail::LaneFields fields(field);
   std::atomic<std::size_t> pairs{0};
+  // One scratch per thread, not per azimuth: its accumulators are field-sized.
+  tbb::enumerable_thread_specific<detail::LaneScratch> scratch;
   tbb::parallel_for(0, params.azimuths, [&](int k) {
-    detail::LaneScratch sc;
-    pairs += detail::sweep_azimuth_lines_through(field, fields, params, edited, k, sc, out,
-                                                 changed.data());
+    pairs += detail::sweep_azimuth_lines_through(field, fields, params, edited, k, scratch.local(),
+                                                 out, changed.data());
   });
   return pairs;
 #else

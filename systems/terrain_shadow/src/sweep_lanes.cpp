@@ -365,7 +365,11 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
     lo = std::max(static_cast<int>(std::ceil(c_first + frame.slope * u)), 0);
     hi = std::min(static_cast<int>(std::ceil(c_last + frame.slope * u)), minor);  // exclusive
   };
-  for (int u = 0; u < major; ++u) {
+  // A sample's horizon depends on its own column and those ahead of it (along +step) only, so
+  // texels ahead of the box keep theirs bit for bit: the lines are swept whole (the hull needs
+  // what lies ahead) but only the columns from the near border up to the box are recorded.
+  const int u_lo = frame.step > 0 ? 0 : ua, u_hi = frame.step > 0 ? ub + 1 : major;
+  for (int u = u_lo; u < u_hi; ++u) {
     int lo, hi;
     texel_range(u, lo, hi);
     for (int v = lo; v < hi; ++v) {
@@ -375,10 +379,10 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
   }
   const int u_near = frame.step > 0 ? 0 : major - 1;
   for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += kGroupLines)
-    scatter(sc, sw.run_group(cg, u_near, 0, major, sc), 0, 0, minor, row);
+    scatter(sc, sw.run_group(cg, u_near, u_lo, u_hi, sc), 0, 0, minor, row);
 
   std::size_t pairs = 0;
-  for (int u = 0; u < major; ++u) {
+  for (int u = u_lo; u < u_hi; ++u) {
     int lo, hi;
     texel_range(u, lo, hi);
     for (int v = lo; v < hi; ++v, ++pairs) {
