@@ -30,6 +30,7 @@ struct Options {
   int probe_objects = -1;         // < 0: ProbeDemoConfig's count; 0: no probe cloud
   float boulder_detail = -1;      // < 0: BoulderConfig's simplify_error; 0: full meshes
   std::string bench;              // headless: write the run's record (play_record.h) here
+  std::string settings;           // a tuned settings file (./penumbra tune; docs/tune.md)
   std::string bench_splits;       // "T:L,...": also run these splits (threads, LP_NUM_THREADS)
   int empty_frames = 120;         // --bench: frames of an empty packet, the baseline (half
                                   // before the run, half after)

@@ -9,7 +9,11 @@
 //                 [--terrain-lod PX]
 //                 [--light-budget F]
 //                 [--bench FILE [--bench-splits T:L,...]] [--gpu-timing-frames N]
+//                 [--settings FILE]
 //
+// --settings FILE: a tuned settings file (./penumbra tune, docs/tune.md) applied to the systems'
+// settings resources and the demo (terrain horizons and azimuths, blocker epsilon, spheres per
+// boulder, probes per side); a bad file is an error naming it and the reason (exit 1).
 // --scene terrain (default): the elevation model lit by the terrain shadow system under a
 // rotating HDR sky, a moving spherical light and periodic brush edits (terrain_demo.h);
 // --scene sample: the particle sample world. --data DIR overrides ../shared/data.
@@ -40,6 +44,7 @@
 #include <string>
 
 #include "penumbra/render/window.h"
+#include "penumbra/settings/tuned_settings.h"
 #include "play.h"
 
 namespace {
@@ -57,7 +62,7 @@ using penumbra::play::Options;
       "[--light-budget F] "
       "[--bench FILE "
       "[--bench-splits "
-      "T:L,...]] [--gpu-timing-frames N]\n",
+      "T:L,...]] [--gpu-timing-frames N] [--settings FILE]\n",
       error);
   std::exit(2);
 }
@@ -138,6 +143,8 @@ Options parse(int argc, char** argv) {
       o.bench = value();
     else if (a == "--bench-splits")
       o.bench_splits = value();
+    else if (a == "--settings")
+      o.settings = value();
     else if (a == "--gpu-timing-frames")
       o.gpu_timing_frames = static_cast<int>(number(0));
     else if (a == "--device")
@@ -157,6 +164,14 @@ Options parse(int argc, char** argv) {
 int main(int argc, char** argv) {
   using namespace penumbra;
   Options opt = parse(argc, argv);
+  if (!opt.settings.empty()) {  // a bad settings file fails before anything starts
+    try {
+      settings::load_settings(opt.settings);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "penumbra_play: --settings: %s\n", e.what());
+      return 1;
+    }
+  }
   // Per-frame arrays (lighting, ratios, copies for the packet) are 0.1-1 MB. Left to glibc's
   // adaptive threshold, whole runs sometimes served them by mmap: fresh pages every frame, 20%
   // of the time in page faults and 3x slower frames (docs/play.md). Keep them on the heap.

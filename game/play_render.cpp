@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -32,6 +33,7 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 #include "play.h"
 #include "play_record.h"
+#include "tune/apply_settings.h"
 
 namespace penumbra::play {
 namespace {
@@ -74,7 +76,12 @@ struct Sim {
       if (o.probe_objects >= 0) demo.probes.count = o.probe_objects;
       demo.boulders.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/spheres");
       demo.probes.cache_dir = ((o.out.empty() ? std::string("build/play") : o.out) + "/probes");
+      // --settings: a tuned settings file (docs/tune.md), on the demo's config and resources.
+      std::optional<tune::SystemSettings> tuned;
+      if (!o.settings.empty()) tuned = tune::load_system_settings(o.settings);
+      if (tuned) tune::apply_to_demo(*tuned, demo.shadow, demo.boulders.spheres, demo.probes.grid);
       game::populate_terrain_demo(world, demo);
+      if (tuned) tune::apply_to_world(*tuned, world);
       world.resource<game::HorizonProbe>().aspect =
           static_cast<float>(o.width) / static_cast<float>(o.height);
       game::add_terrain_demo_systems(schedule, demo);
