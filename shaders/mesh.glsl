@@ -40,8 +40,9 @@ void sh_basis(vec3 d, out float y[9]) {
 // Source k's shadow-map test ([Ambrosj16] sec. 3.6): lit unless the stored depth is nearer the
 // source than this point minus the slope-scaled bias max(0.05 (1 - n.l), 0.005) (in the
 // map's [0, 1] depth). Outside the map: lit.
-bool seen(int k, vec3 world, float n_dot_l) {
-  vec4 s = env.shadow_view_proj[k] * vec4(world, 1.0);
+// s: the point in the map's clip space (orthographic, so interpolated from the vertices as
+// [Ambrosj16] Algorithm 5 does).
+bool seen(int k, vec3 s, float n_dot_l) {
   vec2 uv = 0.5 * s.xy + 0.5;
   if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0))) || s.z > 1.0) return true;
   float bias = max(0.05 * (1.0 - n_dot_l), 0.005);
@@ -58,12 +59,16 @@ layout(location = 2) in vec3 in_lighting;
 layout(location = 0) out vec3 v_lighting;
 layout(location = 1) out vec3 v_normal;
 layout(location = 2) out vec3 v_world;
+#ifdef MESH_ENVIRONMENT
+layout(location = 3) out vec3 v_shadow[3];  // the point in each source's shadow clip space
+#endif
 void main() {
   vec4 world = pc.model * vec4(in_position, 1.0);
   v_world = world.xyz;
   v_normal = mat3(pc.model) * in_normal;
 #ifdef MESH_ENVIRONMENT
   v_lighting = vec3(0.0);
+  for (int k = 0; k < 3; ++k) v_shadow[k] = (env.shadow_view_proj[k] * world).xyz;
 #else
   v_lighting = in_lighting;
 #endif
@@ -75,6 +80,9 @@ void main() {
 layout(location = 0) in vec3 v_lighting;
 layout(location = 1) in vec3 v_normal;
 layout(location = 2) in vec3 v_world;
+#ifdef MESH_ENVIRONMENT
+layout(location = 3) in vec3 v_shadow[3];
+#endif
 layout(location = 0) out vec4 out_color;
 void main() {
 #ifdef MESH_ENVIRONMENT
@@ -83,17 +91,18 @@ void main() {
   n = normalize(n);
   vec3 to_eye = normalize(camera.position.xyz - v_world);
   if (dot(n, to_eye) < 0.0) n = -n;
-  int count = int(env.params.x);
-  bool direct = env.params.y > 0.5;
+  // Pipeline variant (mesh_pass.cpp): bits 0-1 the source count, bit 2 the direct diffuse,
+  // so the loop and the set index are constants (lavapipe runs every lane of a branch).
+  const int count = kVariant & 3;
+  const bool direct = (kVariant & 4) != 0;
   int visible = 0;
   vec3 diffuse = vec3(0.0), glossy = vec3(0.0);
   float exponent = pc.specular.a;
-  for (int k = 0; k < 3; ++k) {
-    if (k >= count) break;
+  for (int k = 0; k < count; ++k) {
     vec3 l = env.source_direction[k].xyz;
     float w = env.source_direction[k].w;
     float n_dot_l = dot(n, l);
-    if (w <= 0.0 || !seen(k, v_world, n_dot_l)) continue;
+    if (w <= 0.0 || !seen(k, v_shadow[k], n_dot_l)) continue;
     visible |= 1 << k;
     vec3 e = w * env.source_irradiance[k].rgb * max(n_dot_l, 0.0);
     if (direct) diffuse += e * 0.318309886;  // E / pi: radiance per unit albedo

@@ -40,18 +40,18 @@ MeshPass::MeshPass(Device& device, VkFormat color_format, VkFormat depth_format)
   const VkDescriptorSetLayoutBinding env_bindings[] = {
       {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
-      {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
+      {1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
+       VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, EnvironmentShading::kMaxSources,
        VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
   env_layout_ = create_pipeline_layout(device, env_bindings, sizeof(Push));
   d.vertex = Shader::kMeshEnvVert;
   d.fragment = Shader::kMeshEnvFrag;
   d.layout = env_layout_.get();
-  d.variant = 0;
   d.bindings = {{0, 6 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX}};
   d.attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
                   {1, 0, VK_FORMAT_R32G32B32_SFLOAT, 3 * sizeof(float)}};
-  env_ = create_pipeline(device, d);
+  env_desc_ = d;
 }
 
 MeshPass::GpuMesh MeshPass::upload(FrameContext& ctx,
@@ -211,7 +211,14 @@ void MeshPass::draw_environment(FrameContext& ctx) {
   const VkWriteDescriptorSet writes[] = {
       buffer_write(0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &ctx.camera),
       buffer_write(1, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, &e.block), maps};
-  vkCmdBindPipeline(ctx.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, env_.get());
+  const int variant = static_cast<int>(std::min<std::size_t>(ctx.packet.environment.sources.size(),
+                                                             EnvironmentShading::kMaxSources)) +
+                      (ctx.packet.environment.direct_diffuse ? 4 : 0);
+  if (!env_[variant]) {
+    env_desc_.variant = variant;
+    env_[variant] = create_pipeline(*device_, env_desc_);
+  }
+  vkCmdBindPipeline(ctx.cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, env_[variant].get());
   push_descriptors(*device_, ctx.cmd, env_layout_.get(), writes);
   for (const Draw& d : draws_) {
     const VkBuffer buffer = d.mesh->vertices.get();

@@ -69,7 +69,10 @@ class MeshPass {
   Unique<VkPipeline> preview_;  // variant 0: no vertex lighting
   Unique<VkPipeline> lit_;      // variant 1: vertex lighting
   PipelineLayout env_layout_;   // camera, EnvironmentBlock, shadow maps
-  Unique<VkPipeline> env_;      // the environment shading (mesh_env shaders)
+  // The environment shading (mesh_env shaders), variant = source count (1-3) + 4 x direct
+  // diffuse, each made on first use.
+  Unique<VkPipeline> env_[8];
+  PipelineDesc env_desc_;
   std::unordered_map<const data::MeshData*, GpuMesh> cache_;
   std::vector<Draw> draws_;
   std::vector<float> scratch_;
