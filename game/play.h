@@ -25,6 +25,7 @@ struct Options {
   float light_budget = -1;        // < 0: LightRefreshConfig's (terrain demo)
   int boulders = -1;              // < 0: BoulderConfig's count (terrain demo)
   bool show_spheres = false;      // the boulders' sphere sets as wire circles
+  bool sun_shadows = false;       // the meshes' per-pixel environment shading (shadow maps)
   bool follow_pair = false;       // camera on the colour-bleeding boulder pair (key C toggles)
   bool probes_debug = false;      // the probe cloud's debug views (probe_demo.h; key P toggles)
   int probe_objects = -1;         // < 0: ProbeDemoConfig's count; 0: no probe cloud

@@ -7,7 +7,7 @@
 //                 [--device NAME] [--size WxH] [--points N] [--boulders N] [--boulder-detail E]
 //                 [--show-spheres] [--probe-objects N] [--probes-debug] [--follow-pair]
 //                 [--terrain-lod PX]
-//                 [--light-budget F]
+//                 [--light-budget F] [--sun-shadows]
 //                 [--bench FILE [--bench-splits T:L,...]] [--gpu-timing-frames N]
 //                 [--settings FILE]
 //
@@ -27,7 +27,9 @@
 // window). --follow-pair starts with the camera on the red and white boulders whose spherical
 // lights bleed colour onto each other and the ground (key C toggles; key I the indirect light).
 // --terrain-lod PX overrides the terrain's pixel budget (0: full detail); --light-budget F
-// the largest fraction of the terrain a light re-shades per frame (light_refresh.h). --bench FILE
+// the largest fraction of the terrain a light re-shades per frame (light_refresh.h).
+// --sun-shadows: the meshes shaded per pixel from the map's detected sources, each with a
+// shadow map, and their OEMs (render::EnvironmentShading; docs/environment.md). --bench FILE
 // (headless) also writes the run's record as JSON (play_record.h), with an empty-frame baseline
 // and the image against full detail; --bench-splits runs the same scene again per thread split
 // (T simulation threads, L = LP_NUM_THREADS) first and includes those records. Headless, the
@@ -59,7 +61,7 @@ using penumbra::play::Options;
       "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
       "[--points N] [--boulders N] [--boulder-detail E] [--show-spheres] [--probe-objects N] "
       "[--probes-debug] [--follow-pair] [--terrain-lod PX] "
-      "[--light-budget F] "
+      "[--light-budget F] [--sun-shadows] "
       "[--bench FILE "
       "[--bench-splits "
       "T:L,...]] [--gpu-timing-frames N] [--settings FILE]\n",
@@ -113,6 +115,8 @@ Options parse(int argc, char** argv) {
       o.points = static_cast<std::size_t>(number(0));
     else if (a == "--show-spheres")
       o.show_spheres = true;
+    else if (a == "--sun-shadows")
+      o.sun_shadows = true;
     else if (a == "--probes-debug")
       o.probes_debug = true;
     else if (a == "--follow-pair")

@@ -87,6 +87,7 @@ struct Sim {
       game::add_terrain_demo_systems(schedule, demo);
       if (o.terrain_lod_pixels >= 0)
         world.resource<systems::RenderSettings>().view.terrain_lod_pixels = o.terrain_lod_pixels;
+      world.resource<systems::RenderSettings>().environment.enabled = o.sun_shadows;
       return;
     }
     game::SampleWorldConfig config;
@@ -238,6 +239,7 @@ std::vector<std::string> run_splits(const Options& o) {
       args.insert(args.end(), {"--light-budget", std::to_string(o.light_budget)});
     if (o.probe_objects >= 0)
       args.insert(args.end(), {"--probe-objects", std::to_string(o.probe_objects)});
+    if (o.sun_shadows) args.push_back("--sun-shadows");
     std::printf("penumbra: split %d simulation threads, LP_NUM_THREADS=%d\n", threads, lp);
     std::fflush(stdout);
     if (run_child(args, "LP_NUM_THREADS=" + std::to_string(lp)) != 0) {
