@@ -87,10 +87,12 @@ layout(location = 0) out vec4 out_color;
 void main() {
 #ifdef MESH_ENVIRONMENT
   vec3 n = v_normal;
-  if (dot(n, n) < 1e-12) n = cross(dFdx(v_world), dFdy(v_world));
-  n = normalize(n);
   vec3 to_eye = normalize(camera.position.xyz - v_world);
-  if (dot(n, to_eye) < 0.0) n = -n;
+  if (dot(n, n) < 1e-12) {  // no normals: the flat one, turned towards the eye
+    n = cross(dFdx(v_world), dFdy(v_world));
+    if (dot(n, to_eye) < 0.0) n = -n;
+  }
+  n = normalize(n);  // the mesh's own normals are kept (front faces only are drawn)
   // Pipeline variant (mesh_pass.cpp): bits 0-1 the source count, bit 2 the direct diffuse,
   // so the loop and the set index are constants (lavapipe runs every lane of a branch).
   const int count = kVariant & 3;
