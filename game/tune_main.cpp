@@ -119,7 +119,11 @@ int main(int argc, char** argv) {
     std::snprintf(sp, sizeof sp, "%d per side (%.1f m), ", s.probes.probes_per_side,
                   s.probes.spacing);
     print_row("probes", sp + s.probes.placement, s.probes.result);
-    std::printf("%-17s not searched (defaults kept; docs/tune.md)\n", "spherical_lights");
+    const settings::SphericalLightTuning& l = s.spherical_lights;
+    print_row("spherical_lights",
+              std::to_string(10 * l.directions_frequency * l.directions_frequency + 2) +
+                  " directions, " + l.blocking + ", " + l.horizon,
+              l.result);
     std::printf("settings -> %s\n", out.c_str());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "\npenumbra_tune: %s\n", e.what());

@@ -21,6 +21,9 @@ SystemSettings system_settings(const settings::TunedSettings& s) {
                                     : spherical_lights::SlBlocking::kPerSphere;
   o.spherical_lights.blocker = o.blockers.blocker;
   o.reflectors.geodesic_frequency = s.spherical_lights.directions_frequency;
+  o.ground_horizon = s.spherical_lights.horizon == "shrink"
+                         ? spherical_lights::EmitterHorizon::kShrink
+                         : spherical_lights::EmitterHorizon::kClip;
   o.probes_per_side = s.probes.probes_per_side;
   o.probe_spacing = s.probes.spacing;
   o.source = s;
@@ -52,8 +55,10 @@ void apply_to_world(const SystemSettings& s, ecs::World& world) {
   auto* b = world.try_resource<blocker_accumulation::BlockerSettingsResource>();
   if (b && s.source.blockers.result.tuned) b->settings.blocker.epsilon = s.blockers.blocker.epsilon;
   auto* l = world.try_resource<spherical_lights::SphericalLightSettingsResource>();
-  if (l && s.source.spherical_lights.result.tuned)
+  if (l && s.source.spherical_lights.result.tuned) {
     l->settings.blocking = s.spherical_lights.blocking;
+    l->terrain_horizon = s.ground_horizon;
+  }
 }
 
 }  // namespace penumbra::tune

@@ -26,6 +26,7 @@ struct SystemSettings {
   int spheres_per_object = 16;
   spherical_lights::SphereLightSettings spherical_lights;
   spherical_lights::ReflectorSettings reflectors;
+  spherical_lights::EmitterHorizon ground_horizon = spherical_lights::EmitterHorizon::kClip;
   int probes_per_side = 12;
   float probe_spacing = 10;
   settings::TunedSettings source;  // what these came from (result.tuned says what was searched)
@@ -43,7 +44,8 @@ void apply_to_demo(const SystemSettings& s, terrain_shadow::TerrainShadowConfig&
 
 // Sets, for each system the file tuned, the tuned fields of the settings resources present in
 // `world` (TerrainShadowSettings::config: method, azimuths, pyramid step;
-// BlockerSettingsResource::settings.blocker.epsilon; SphericalLightSettingsResource: blocking);
+// BlockerSettingsResource::settings.blocker.epsilon; SphericalLightSettingsResource: blocking,
+// terrain_horizon);
 // every other field keeps its value. The
 // terrain's config is read when a terrain first gets its state: call before the first frame.
 void apply_to_world(const SystemSettings& s, ecs::World& world);

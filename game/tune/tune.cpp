@@ -3,6 +3,7 @@
 #include "blocker_tuner.h"
 #include "greedy_search.h"
 #include "probe_tuner.h"
+#include "spherical_light_tuner.h"
 #include "terrain_tuner.h"
 
 namespace penumbra::tune {
@@ -80,6 +81,11 @@ settings::TunedSettings run_tune(const TuneScene& scene, double budget, const Tu
     s.blockers = search("blockers", tuner, budget, progress);
   }
   {
+    if (progress) progress(reference_event("spherical_lights"));
+    const SphericalLightTuner tuner(scene, options);
+    s.spherical_lights = search("spherical_lights", tuner, budget, progress);
+  }
+  {
     if (progress) progress(reference_event("probes"));
     const ProbeTuner tuner(scene, options);
     s.probes = search("probes", tuner, budget, progress);
@@ -94,6 +100,9 @@ settings::TunedSettings evaluate_settings(const TuneScene& scene, const settings
     remeasure(s.terrain, TerrainTuner(scene, options).evaluate(s.terrain), s.budget);
   if (s.blockers.result.tuned)
     remeasure(s.blockers, BlockerTuner(scene, options).evaluate(s.blockers), s.budget);
+  if (s.spherical_lights.result.tuned)
+    remeasure(s.spherical_lights, SphericalLightTuner(scene, options).evaluate(s.spherical_lights),
+              s.budget);
   if (s.probes.result.tuned)
     remeasure(s.probes, ProbeTuner(scene, options).evaluate(s.probes), s.budget);
   return s;

@@ -1,9 +1,8 @@
 // `./penumbra tune` (docs/tune.md): per system, greedy_search over its tuner's knobs on one
 // scene, the chosen configurations gathered into a settings file's values; and the same
 // configurations measured again on another scene (the held-out check, tests/tune).
-// Systems searched: terrain (TerrainTuner), blockers (BlockerTuner), probes (ProbeTuner). The
-// spherical lights are not searched yet: their entry keeps the system's defaults with
-// result.tuned = false (docs/tune.md says why).
+// Systems searched: terrain (TerrainTuner), blockers (BlockerTuner), spherical lights
+// (SphericalLightTuner), probes (ProbeTuner).
 // Threading: one thread; the systems and the reference use TBB inside.
 #pragma once
 

@@ -150,6 +150,7 @@ std::string payload_of(const TunedSettings& s) {
                        {"result", result_json(s.blockers.result)}};
   j["spherical_lights"] = Json{{"directions_frequency", s.spherical_lights.directions_frequency},
                                {"blocking", s.spherical_lights.blocking},
+                               {"horizon", s.spherical_lights.horizon},
                                {"result", result_json(s.spherical_lights.result)}};
   j["probes"] = Json{{"spacing", s.probes.spacing},
                      {"probes_per_side", s.probes.probes_per_side},
@@ -184,12 +185,13 @@ TunedSettings parse_payload(const Json& j, const std::string& name) {
     s.blockers.result = r.result(b, "blockers");
   }
   {
-    const Json& l =
-        r.object(j, "spherical_lights", "", {"directions_frequency", "blocking", "result"});
+    const Json& l = r.object(j, "spherical_lights", "",
+                             {"directions_frequency", "blocking", "horizon", "result"});
     s.spherical_lights.directions_frequency =
         r.integer(l, "directions_frequency", "spherical_lights", 1, 8);
     s.spherical_lights.blocking =
         r.text(l, "blocking", "spherical_lights", {"per_sphere", "per_object"});
+    s.spherical_lights.horizon = r.text(l, "horizon", "spherical_lights", {"shrink", "clip"});
     s.spherical_lights.result = r.result(l, "spherical_lights");
   }
   {

@@ -15,7 +15,7 @@
 //    "blockers":         {"spheres_per_object": 1..1024, "epsilon": (0, 1), "bands": 3..6,
 //                         "result": R},
 //    "spherical_lights": {"directions_frequency": 1..8, "blocking": "per_sphere"|"per_object",
-//                         "result": R},
+//                         "horizon": "shrink"|"clip", "result": R},
 //    "probes":           {"spacing": > 0, "probes_per_side": 2..1024,
 //                         "placement": "grid"|"spawn_merge"|"gradient", "result": R}}
 //   R = {"tuned": bool, "error": >= 0, "met": bool, "cost": >= 0, "ms": >= 0,
@@ -73,6 +73,7 @@ struct BlockerTuning {
 struct SphericalLightTuning {
   int directions_frequency = 3;         // geodesic frequency: 10 f^2 + 2 sample directions per SL
   std::string blocking = "per_sphere";  // "per_sphere" | "per_object" (SlBlocking)
+  std::string horizon = "clip";         // "shrink" | "clip": EmitterHorizon at ground receivers
   TuneResult result;
   bool operator==(const SphericalLightTuning&) const = default;
 };
