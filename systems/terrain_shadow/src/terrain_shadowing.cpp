@@ -167,18 +167,31 @@ void TerrainShadowing<N>::compute_transfer_rows(const std::vector<unsigned char>
   const bool exact = config_.transfer == TransferMethod::kExact;
   tbb::parallel_for(0, field_->height, [&](int y) {
     std::vector<float> raised(exact ? static_cast<std::size_t>(config_.azimuths) : 0);
+    // The exact transfer's couplings run eight texels at a time (exact_diffuse_transfer_8).
+    std::array<sh::Coeffs<N + 1>, 8> vis;
+    std::array<glm::vec3, 8> nrm;
+    std::array<sh::Coeffs<N>, 8> res;
+    std::array<std::size_t, 8> at;
+    int batch = 0;
     for (int x = 0; x < w; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * w + x;
       if (mask && !(*mask)[i]) continue;
       if (exact) {  // ours (transfer.h): V above the horizon and the tangent plane, N + 1 bands
         frame_.raise_to_tangent_plane(horizons_.texel(x, y), normals_[i], raised.data());
-        transfer_[i] =
-            exact_diffuse_transfer<N>(hemisphere_exact_->visibility(raised.data()), normals_[i]);
+        vis[batch] = hemisphere_exact_->visibility(raised.data());
+        nrm[batch] = normals_[i];
+        at[batch++] = i;
+        if (batch == 8) {
+          exact_diffuse_transfer_8<N>(vis.data(), nrm.data(), res.data());
+          for (int b = 0; b < 8; ++b) transfer_[at[b]] = res[b];
+          batch = 0;
+        }
       } else {  // [Meier13] eq. 4.19 then 4.21.
         transfer_[i] =
             diffuse_transfer<N>(hemisphere_->visibility(horizons_.texel(x, y)), normals_[i]);
       }
     }
+    for (int b = 0; b < batch; ++b) transfer_[at[b]] = exact_diffuse_transfer<N>(vis[b], nrm[b]);
   });
 }
 

@@ -33,6 +33,11 @@ sh::Coeffs<N> diffuse_transfer(const sh::Coeffs<N>& visibility, const glm::vec3&
 // proj_N(V max(0, n.w))). `normal` unit length (asserted in checked builds). N = 2..6.
 template <int N>
 sh::Coeffs<N> exact_diffuse_transfer(const sh::Coeffs<N + 1>& visibility, const glm::vec3& normal);
+// The same for eight texels at once (one per vector lane; results equal to eight calls of
+// exact_diffuse_transfer): visibility[8], normals[8], out[8].
+template <int N>
+void exact_diffuse_transfer_8(const sh::Coeffs<N + 1>* visibility, const glm::vec3* normals,
+                              sh::Coeffs<N>* out);
 // Its non-zero coupling components (G_ij)_c (one multiply-add each per call, plus 3 N^2 to weigh
 // them by the normal): an operation count for benchmarks.
 template <int N>
