@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 
+#include "common/stability.h"
 #include "penumbra/render/camera.h"
 #include "penumbra/render/offscreen_target.h"
 #include "penumbra/render/renderer.h"
@@ -157,6 +158,8 @@ TEST(ShadowBox, HoldsTheSceneForAnyDirection) {
 }
 
 TEST(ShadowBox, DegenerateInputs) {
+  PENUMBRA_STABILITY("a shadow box around one point; a zero light direction",
+                     "a minimal finite box (0.002 m); an empty box", "-");
   const ShadowBox point = fit_shadow_box(glm::vec3(1.0f), glm::vec3(1.0f), {0, 0, 1});
   for (int i = 0; i < 3; ++i) EXPECT_NEAR(point.extent[i], 0.002f, 1e-5f);
   EXPECT_TRUE(std::isfinite(point.view_proj[3][0]));
@@ -407,9 +410,36 @@ TEST(EnvironmentShading, ShBasisMatchesTheLibrary) {
   EXPECT_LE(worst, 4);  // the mesh's facets and 16-bit HDR
 }
 
+// The maps are drawn again only when the sources or the meshes change; a frame that reuses
+// them draws the same image.
+TEST(EnvironmentShading, MapsRedrawnOnlyWhenTheSceneChanges) {
+  Gpu gpu;
+  RenderPacket p = ground_scene(true);
+  p.environment = one_source({0.3f, 0.2f, 0.9f}, glm::vec3(2.0f));
+  const ImageRgba8 first = gpu.render(p);
+  EXPECT_EQ(gpu.renderer.stats().shadow_renders, 1u);
+  EXPECT_EQ(differing_pixels(gpu.render(p), first), 0u);
+  EXPECT_EQ(gpu.renderer.stats().shadow_renders, 1u) << "nothing changed";
+  p.environment.sources[0].weight = 0.5f;  // not in the maps
+  gpu.render(p);
+  EXPECT_EQ(gpu.renderer.stats().shadow_renders, 1u);
+  p.meshes[1].transform = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0.0f, 1.0f));
+  const ImageRgba8 moved = gpu.render(p);
+  EXPECT_EQ(gpu.renderer.stats().shadow_renders, 2u) << "a mesh moved";
+  EXPECT_NE(differing_pixels(moved, first), 0u);
+  p.environment.sources[0].direction = {0.3f, 0.25f, 0.9f};
+  gpu.render(p);
+  EXPECT_EQ(gpu.renderer.stats().shadow_renders, 3u) << "the source moved";
+  p.environment.shadow_map_size = 256;
+  gpu.render(p);
+  EXPECT_EQ(gpu.renderer.stats().shadow_renders, 4u) << "new maps";
+}
+
 // Bad input: no sources, no meshes, a bad packet: drawn exactly as without the shading; a
 // source at the zenith or on the horizon draws (finite box).
 TEST(EnvironmentShading, BadInputFallsBackToTodaysPath) {
+  PENUMBRA_STABILITY("no sources, no meshes, a bad packet; a source at the zenith or horizon",
+                     "drawn exactly as without the shading; the error is stated; finite box", "-");
   Gpu gpu;
   const RenderPacket plain = test::mesh_scene();
   const ImageRgba8 today = gpu.render(plain);

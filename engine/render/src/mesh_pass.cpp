@@ -1,6 +1,7 @@
 #include "penumbra/render/mesh_pass.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include <glm/common.hpp>
@@ -147,6 +148,14 @@ bool MeshPass::bounds(glm::vec3& lo, glm::vec3& hi) const {
   lo = lo_;
   hi = hi_;
   return true;
+}
+
+void MeshPass::append_geometry_key(std::vector<std::uint64_t>& key) const {
+  for (const Draw& d : draws_) {
+    key.push_back(reinterpret_cast<std::uintptr_t>(d.mesh->source.get()));
+    const float* m = glm::value_ptr(d.draw->transform);
+    for (int i = 0; i < 16; ++i) key.push_back(std::bit_cast<std::uint32_t>(m[i]));
+  }
 }
 
 void MeshPass::draw_depth(VkCommandBuffer cmd, VkPipelineLayout layout,

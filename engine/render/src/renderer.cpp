@@ -136,7 +136,7 @@ void Renderer::record_scene(FrameContext& ctx, Frame& f) {
   debug_.prepare(ctx);
   write_camera(ctx);
   f.timer->mark(cmd, "upload");
-  if (shadows_.maps() > 0) {
+  if (shadows_.stale()) {
     shadows_.record(ctx, meshes_);
     f.timer->mark(cmd, "shadows");
   }
@@ -334,6 +334,7 @@ Renderer::Stats Renderer::stats() const {
   s.terrain_triangles = terrain_.triangles();
   s.mesh_triangles = meshes_.triangles();
   s.shadow_maps = shadows_.maps();
+  s.shadow_renders = shadows_.renders();
   s.environment_error = shadows_.error();
   return s;
 }

@@ -1,6 +1,7 @@
 #include "penumbra/render/shadow_pass.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -171,6 +172,7 @@ void ShadowPass::prepare(FrameContext& ctx, const MeshPass& meshes) {
   count_ = std::min(s.sources.size(), EnvironmentShading::kMaxSources);
   const std::uint32_t size = std::clamp<std::uint32_t>(s.shadow_map_size, 64, 4096);
   if (images_.size() != count_ || size != size_) {
+    key_.clear();  // new images: render them
     for (Image& image : images_) ctx.retire.retire(ctx.frame, std::move(image));
     images_.clear();
     for (std::size_t k = 0; k < count_; ++k)
@@ -195,6 +197,13 @@ void ShadowPass::prepare(FrameContext& ctx, const MeshPass& meshes) {
                            std::cos(s.rotation_z), std::sin(s.rotation_z));
   const std::vector<glm::vec3> sets = environment_sets(s);
   for (std::size_t i = 0; i < sets.size(); ++i) block.sets[i] = glm::vec4(sets[i], 0.0f);
+  next_.clear();
+  next_.push_back(size_);
+  for (std::size_t k = 0; k < count_; ++k)
+    for (int i = 0; i < 3; ++i)
+      next_.push_back(std::bit_cast<std::uint32_t>(block.source_direction[k][i]));
+  meshes.append_geometry_key(next_);
+  stale_ = next_ != key_;
   const Slice slice = ctx.ring.upload(&block, sizeof block);
   bindings_.block = {slice.buffer, slice.offset, sizeof block};
   for (std::size_t k = 0; k < EnvironmentShading::kMaxSources; ++k)
@@ -204,7 +213,10 @@ void ShadowPass::prepare(FrameContext& ctx, const MeshPass& meshes) {
 }
 
 void ShadowPass::record(FrameContext& ctx, const MeshPass& meshes) {
-  if (!active_) return;
+  if (!active_ || !stale_) return;
+  key_.swap(next_);
+  stale_ = false;
+  ++renders_;
   const VkPipelineStageFlags2 tests =
       VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
   const VkExtent2D extent{size_, size_};

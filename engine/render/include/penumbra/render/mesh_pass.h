@@ -40,6 +40,9 @@ class MeshPass {
   void draw_depth(VkCommandBuffer cmd, VkPipelineLayout layout, const glm::mat4& view_proj) const;
   // The world AABB of this frame's draws (each mesh's local box, transformed); false: none.
   bool bounds(glm::vec3& lo, glm::vec3& hi) const;
+  // Appends what draw_depth() draws this frame (each mesh's address and transform, in draw
+  // order) to `key`: equal keys draw the same depth.
+  void append_geometry_key(std::vector<std::uint64_t>& key) const;
 
   std::size_t cached_meshes() const { return cache_.size(); }
   std::size_t rejected() const { return rejected_; }

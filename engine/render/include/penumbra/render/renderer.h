@@ -5,7 +5,8 @@
 // passes in one scope):
 //   upload   terrain / mesh / environment uploads, this frame's vertex lighting, debug lists
 //   shadows  one depth map per environment source (shadow_pass.h; only when the packet's
-//            EnvironmentShading is enabled, valid and has sources and meshes)
+//            EnvironmentShading is enabled, valid and has sources and meshes, and the
+//            sources or the meshes changed since the maps were drawn)
 //   terrain  clears HDR colour + depth, draws the height field      } HDR image (RGBA16F)
 //   meshes   per-vertex-lit meshes (or environment-shaded)          } + reversed depth
 //   debug    wire spheres, lines, points                             }
@@ -70,7 +71,8 @@ class Renderer {
     VkDeviceSize ring_capacity = 0;  // all frames' upload rings
     VkDeviceSize uploaded = 0;       // ring bytes used by the last frame
     std::uint64_t terrain_triangles = 0, mesh_triangles = 0;  // drawn by the last frame
-    std::size_t shadow_maps = 0;  // environment shadow maps the last frame drew (0: shading off)
+    std::size_t shadow_maps = 0;  // environment shadow maps the last frame used (0: shading off)
+    std::uint64_t shadow_renders = 0;  // frames that re-rendered them (shadow_pass.h)
     // Why the last packet's EnvironmentShading was not drawn (check_environment_shading), "" if
     // it was (or was off); the frame is then drawn as without it.
     std::string environment_error;

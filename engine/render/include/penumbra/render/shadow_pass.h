@@ -13,7 +13,9 @@
 //
 // The maps are shared by the frames in flight (like FrameImages: one queue, each frame's first
 // barrier waits for the previous frame's reads); they are recreated when the count or the
-// size changes.
+// size changes. They are re-rendered only when what they show changes: the map size, a
+// source's direction, or a mesh drawn, its transform or the draw order (MeshPass::
+// append_geometry_key); otherwise the last frame's maps are read again.
 //
 // Threading: render thread only; the free functions are pure (any thread).
 #pragma once
@@ -67,11 +69,14 @@ class ShadowPass {
   explicit ShadowPass(Device& device);
   // After MeshPass::prepare (needs its draws and bounds): decides, writes the block.
   void prepare(FrameContext& ctx, const MeshPass& meshes);
-  // Outside any rendering scope: the depth renders and their barriers (nothing when inactive).
+  // Outside any rendering scope: the depth renders and their barriers (nothing when inactive
+  // or when the maps already show this frame's scene: stale() false).
   void record(FrameContext& ctx, const MeshPass& meshes);
+  bool stale() const { return active_ && stale_; }
   // What the mesh pass binds this frame; null when the environment shading is off.
   const EnvironmentBindings* bindings() const { return active_ ? &bindings_ : nullptr; }
   std::size_t maps() const { return active_ ? count_ : 0; }
+  std::uint64_t renders() const { return renders_; }   // frames that re-rendered the maps
   const std::string& error() const { return error_; }  // the last packet's check, "" if fine
   const ShadowBox& box(std::size_t k) const { return boxes_[k]; }
 
@@ -84,9 +89,13 @@ class ShadowPass {
   std::uint32_t size_ = 0;
   std::size_t count_ = 0;
   bool active_ = false;
+  bool stale_ = true;                // the maps do not show this frame's scene
+  std::vector<std::uint64_t> key_;   // what the maps show (sources, size, geometry)
+  std::vector<std::uint64_t> next_;  // this frame's
   std::array<ShadowBox, EnvironmentShading::kMaxSources> boxes_{};
   EnvironmentBindings bindings_{};
   std::string error_;
+  std::uint64_t renders_ = 0;
 };
 
 }  // namespace penumbra::render
