@@ -312,6 +312,47 @@ TEST(EnvironmentShading, BiasKeepsALitPlaneFreeOfAcne) {
   EXPECT_GT(rgb_at(image, pixel_of(p, {2.0f, -1.0f, 0.0f})).g, 100);
 }
 
+// The direct and Blinn terms have their formulas: on a lit glossy ground (OEM sets black,
+// lighting-only view, linear tonemap) every pixel is E max(0, n.l) / pi + s (e + 8) / (8 pi)
+// (n.h)^e E max(0, n.l), with h from that pixel's view direction.
+TEST(EnvironmentShading, DirectAndBlinnTermsMatchTheirFormulas) {
+  Gpu gpu;
+  RenderPacket p = ground_scene(false);
+  p.meshes[0].specular = glm::vec3(0.3f);
+  p.meshes[0].specular_exponent = 20.0f;
+  p.view.lighting_only = true;
+  p.view.tonemap = ViewSettings::Tonemap::kLinear;
+  p.camera.position = {0.0f, -6.0f, 3.0f};
+  p.camera.target = {0.0f, 0.0f, 0.0f};
+  const glm::vec3 l = glm::normalize(glm::vec3(0.0f, 1.0f, 0.7f));  // facing the camera
+  const glm::vec3 e(0.8f, 0.6f, 0.4f);
+  p.environment = one_source(l, e);
+  p.environment.oem_sh = constant_sets({glm::vec3(0.0f), glm::vec3(0.0f)});
+  const ImageRgba8 image = gpu.render(p);
+  const glm::mat4 inv = glm::inverse(view_projection(p.camera, float(kWidth) / float(kHeight)));
+  int checked = 0, worst = 0, brightest = 0;
+  for (int y = 40; y < int(kHeight); y += 4)
+    for (int x = 4; x < int(kWidth); x += 8) {
+      const glm::vec2 ndc((x + 0.5f) / kWidth * 2 - 1, (y + 0.5f) / kHeight * 2 - 1);
+      const glm::vec4 a = inv * glm::vec4(ndc, 1.0f, 1.0f), b = inv * glm::vec4(ndc, 0.5f, 1.0f);
+      const glm::vec3 o = glm::vec3(a) / a.w, d = glm::normalize(glm::vec3(b) / b.w - o);
+      if (d.z >= -1e-3f) continue;
+      const glm::vec3 w = o - (o.z / d.z) * d;  // on z = 0
+      if (std::abs(w.x) > 4.5f || std::abs(w.y) > 4.5f) continue;
+      const glm::vec3 n(0, 0, 1), h = glm::normalize(l + glm::normalize(p.camera.position - w));
+      const float nl = glm::dot(n, l);
+      const glm::vec3 want = e * nl / 3.14159265f + 0.3f * (20.0f + 8.0f) / (8.0f * 3.14159265f) *
+                                                        std::pow(glm::dot(n, h), 20.0f) * e * nl;
+      const glm::ivec3 got = rgb_at(image, {x, y});
+      for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(got[c] - srgb8(want[c])));
+      brightest = std::max(brightest, srgb8(want.x) - srgb8(e.x * nl / 3.14159265f));
+      ++checked;
+    }
+  EXPECT_GT(checked, 30);
+  EXPECT_GT(brightest, 40) << "the highlight is in the sampled pixels";
+  EXPECT_LE(worst, 3);
+}
+
 // Two sources, [Ambrosj16] Algorithm 6 (no direct term): a ground point in the shadow of
 // sources[0] only is lit by the OEM "env source 1 present, env source 0 removed" (index 0b10:
 // bit j set = env source j present), and the other way round; both seen: the whole map.
