@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
 
 #include "penumbra/ecs/world.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
@@ -15,8 +16,8 @@ namespace {
 
 settings::TunedSettings tuned() {
   settings::TunedSettings s;
-  s.scene = "t";
-  s.terrain.horizon = "march";
+  s.scene = std::string("t");
+  s.terrain.horizon = std::string("march");  // not = "march": GCC 12 -Wrestrict (bug 105329)
   s.terrain.level_step = 2;
   s.terrain.azimuths = 8;
   s.terrain.bands = 3;
@@ -26,7 +27,7 @@ settings::TunedSettings tuned() {
   s.blockers.result.tuned = true;
   s.probes.probes_per_side = 6;
   s.probes.result.tuned = true;
-  s.spherical_lights.blocking = "per_object";  // not tuned: must not be applied
+  s.spherical_lights.blocking = std::string("per_object");  // not tuned: must not be applied
   return s;
 }
 
