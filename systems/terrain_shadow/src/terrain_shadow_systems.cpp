@@ -26,6 +26,7 @@ TerrainShadowState new_state(const TerrainShadowSettings& settings) {
   TerrainShadowState x;
   x.shadowing = std::make_shared<TerrainShadowing<kSystemBands>>(settings.config);
   x.refresh = LightRefresh(settings.light_refresh);
+  x.environment_refresh = EnvironmentRefresh(settings.environment_refresh);
   return x;
 }
 
@@ -110,6 +111,7 @@ void update_lights(ecs::World& w) {
     for (const LightSample& l : samples)
       x.shadowing->add_spherical_light(l.centre, l.radius, l.radiance, x.light_irradiance, tiles);
     x.refresh.commit(&x.light_irradiance);
+    x.lights_dirty.insert(x.lights_dirty.end(), tiles.begin(), tiles.end());  // for compose
     ++x.lights_stamp;
   });
 }
@@ -120,10 +122,10 @@ std::size_t key_light_mask(const EnvironmentLight* env, const TerrainShadowSetti
   return components::key_light_mask(*env, settings.key_light_max_radius);
 }
 
-// The key lights' irradiance added to rgb, their horizons swept again where the light moved
-// by more than settings.key_light_step of its radius or the terrain changed.
-void add_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& settings,
-                    std::size_t mask, TerrainShadowState& x, std::vector<glm::vec3>& rgb) {
+// The key lights' poses; their horizons swept again where the light moved by more than
+// settings.key_light_step of its radius or the terrain changed (then the generation is bumped).
+void update_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& settings,
+                       std::size_t mask, TerrainShadowState& x, EnvironmentPose& pose) {
   x.key_lights.resize(env.sources.size());
   for (std::size_t j = 0; j < env.sources.size(); ++j) {
     if (!(mask >> j & 1)) continue;
@@ -138,9 +140,40 @@ void add_key_lights(const EnvironmentLight& env, const TerrainShadowSettings& se
       x.shadowing->key_light_horizons(dir, k.horizons);
       k.phi = phi;
       k.visibility = x.visibility_stamp;
+      ++x.key_horizons_generation;
     }
-    x.shadowing->add_key_light(dir, src.angular_radius, src.irradiance, k.horizons, rgb);
+    const float luminance =
+        0.2126f * src.irradiance.x + 0.7152f * src.irradiance.y + 0.0722f * src.irradiance.z;
+    pose.keys.push_back({dir, src.angular_radius, luminance, k.horizons});
+    x.key_sources.push_back(j);
   }
+  pose.horizons_generation = x.key_horizons_generation;
+}
+
+std::vector<float> transfer_norms(const TerrainShadowing<kSystemBands>& shadowing) {
+  std::vector<float> norms(shadowing.transfer().size());
+  for (std::size_t i = 0; i < norms.size(); ++i) {
+    float s = 0;
+    for (float c : shadowing.transfer()[i]) s += c * c;
+    norms[i] = std::sqrt(s);
+  }
+  return norms;
+}
+
+// (E_env + E_key + E_lights) / pi over the texels of `rects` ([Meier13] eq. 4.30).
+void compose_rects(TerrainShadowState& x, std::span<const TexelRect> rects) {
+  const bool lit = x.light_irradiance.size() == x.environment_irradiance.size();
+  const int w = x.shadowing->field().width;
+  tbb::parallel_for(std::size_t{0}, rects.size(), [&](std::size_t k) {
+    const TexelRect& r = rects[k];
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int xx = r.x0; xx < r.x1; ++xx) {
+        const std::size_t i = static_cast<std::size_t>(y) * w + xx;
+        const glm::vec3 e =
+            x.environment_irradiance[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));
+        x.composed[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
+      }
+  });
 }
 
 void compose(ecs::World& w) {
@@ -151,14 +184,20 @@ void compose(ecs::World& w) {
                                                           TerrainLighting& lighting) {
     TerrainLighting* out = &lighting;
     if (!x.shadowing->ready()) return;
+    const data::HeightField& f = x.shadowing->field();
+    const std::size_t n = static_cast<std::size_t>(f.width) * f.height;
     const std::uint64_t env_version = env ? env->version + 1 : 0;
     const std::uint64_t sources = keys ? ((env->sources_version + 1) << 8) | keys : 0;
     const float rotation = env ? env->rotation_z : 0.0f;
-    if (x.composed_visibility == x.visibility_stamp && x.composed_lights == x.lights_stamp &&
-        x.composed_environment == env_version && x.composed_rotation == rotation &&
-        x.composed_sources == sources)
-      return jobs::report_item(false);  // nothing it reads changed
-    jobs::report_item(true);
+    // A new transfer, map or set of key lights: every tile now. A turned map (and its key
+    // lights): the tiles where the turn can show, within a budget (environment_refresh.h).
+    const bool whole = x.composed_visibility != x.visibility_stamp ||
+                       x.composed_environment != env_version || x.composed_sources != sources ||
+                       x.environment_irradiance.size() != n;
+    if (x.composed_visibility != x.visibility_stamp || x.environment_irradiance.size() != n)
+      x.environment_refresh.reset(f.width, f.height, transfer_norms(*x.shadowing));
+    else if (whole)
+      x.environment_refresh.invalidate();
     sh::CoeffsRgb<kSystemBands> radiance{};
     if (env)
       for (int c = 0; c < 3; ++c) {  // without the key lights: their OEM ([Ambrosj16] sec. 4.2)
@@ -167,19 +206,42 @@ void compose(ecs::World& w) {
         std::copy_n(full.begin(), low.size(), low.begin());
         radiance[c] = sh::rotate_z<kSystemBands>(low, rotation);
       }
-    auto rgb = std::make_shared<std::vector<glm::vec3>>();
-    x.shadowing->shade_environment(radiance, *rgb);  // [Meier13] eq. 4.21
-    if (keys) add_key_lights(*env, settings, keys, x, *rgb);
-    const bool lit = x.light_irradiance.size() == rgb->size();
-    tbb::parallel_for(std::size_t{0}, rgb->size(), [&](std::size_t i) {
-      glm::vec3 e = (*rgb)[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));  // eq. 4.30
-      (*rgb)[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
-    });
+    EnvironmentPose pose;
+    pose.rotation = rotation;
+    pose.rotation_speed = rotation_speed_bound(radiance[0], radiance[1], radiance[2]);
+    x.key_sources.clear();
+    if (keys) update_key_lights(*env, settings, keys, x, pose);
+    const std::vector<TexelRect>& tiles = x.environment_refresh.plan(pose, whole);
+    const bool lights_changed = x.composed_lights != x.lights_stamp;
+    if (tiles.empty() && !lights_changed)
+      return jobs::report_item(false);  // nothing it reads changed visibly
+    jobs::report_item(true);
+    if (!tiles.empty()) {
+      x.environment_irradiance.resize(n);
+      x.shadowing->shade_environment(radiance, x.environment_irradiance, tiles);  // eq. 4.21
+      for (std::size_t k = 0; k < pose.keys.size(); ++k) {
+        const components::EnvironmentSource& src = env->sources[x.key_sources[k]];
+        x.shadowing->add_key_light(pose.keys[k].direction, src.angular_radius, src.irradiance,
+                                   pose.keys[k].horizons, x.environment_irradiance, tiles);
+      }
+      x.environment_refresh.commit(pose, x.shadowing->normals());
+    }
+    if (x.composed.size() != n || whole) {
+      x.composed.resize(n);
+      const TexelRect all = TexelRect::all(f);
+      compose_rects(x, {&all, 1});
+    } else {
+      compose_rects(x, tiles);
+      compose_rects(x, x.lights_dirty);
+    }
+    x.lights_dirty.clear();
+    auto rgb = std::make_shared<std::vector<glm::vec3>>(x.composed);
     x.refresh.set_reference(*rgb, std::numbers::pi_v<float>);  // what the lights compare against
+    x.environment_refresh.set_reference(*rgb, std::numbers::pi_v<float>);
     out->rgb = rgb;
     out->composed = std::move(rgb);
-    out->width = x.shadowing->field().width;
-    out->height = x.shadowing->field().height;
+    out->width = f.width;
+    out->height = f.height;
     x.composed_visibility = x.visibility_stamp;
     x.composed_lights = x.lights_stamp;
     x.composed_environment = env_version;
@@ -193,7 +255,10 @@ void compose(ecs::World& w) {
 void emplace_terrain_shadow_resources(ecs::World& world, const TerrainShadowConfig& config,
                                       const LightRefreshConfig& light_refresh) {
   if (world.try_resource<TerrainShadowSettings>()) return;
-  world.emplace_resource<TerrainShadowSettings>(TerrainShadowSettings{config, light_refresh});
+  TerrainShadowSettings settings;
+  settings.config = config;
+  settings.light_refresh = light_refresh;
+  world.emplace_resource<TerrainShadowSettings>(settings);
 }
 
 void add_terrain_shadow_systems(jobs::Schedule& schedule) {

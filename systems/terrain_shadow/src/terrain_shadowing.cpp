@@ -271,6 +271,26 @@ void TerrainShadowing<N>::shade_environment(const sh::CoeffsRgb<N>& radiance,
 }
 
 template <int N>
+void TerrainShadowing<N>::shade_environment(const sh::CoeffsRgb<N>& radiance,
+                                            std::vector<glm::vec3>& irradiance,
+                                            std::span<const TexelRect> regions) const {
+  if (!field_) throw std::invalid_argument("terrain shadowing: shade_environment before update");
+  if (irradiance.size() != transfer_.size())
+    throw std::invalid_argument("shade_environment: irradiance is not one per texel");
+  const int w = field_->width;
+  tbb::parallel_for(std::size_t{0}, regions.size(), [&](std::size_t k) {
+    const TexelRect& r = regions[k];
+    for (int y = r.y0; y < r.y1; ++y)
+      for (int x = r.x0; x < r.x1; ++x) {  // [Meier13] eq. 4.21, as above
+        const std::size_t i = static_cast<std::size_t>(y) * w + x;
+        irradiance[i] = {sh::dot<N>(radiance[0], transfer_[i]),
+                         sh::dot<N>(radiance[1], transfer_[i]),
+                         sh::dot<N>(radiance[2], transfer_[i])};
+      }
+  });
+}
+
+template <int N>
 void TerrainShadowing<N>::validate_light(const glm::vec3& centre, float radius,
                                          const glm::vec3& radiance) const {
   if (!field_) throw std::invalid_argument("terrain shadowing: add_spherical_light before update");
@@ -460,29 +480,57 @@ void TerrainShadowing<N>::key_light_horizons(const glm::vec3& direction,
   sweep_direction_horizons(*field_, p, phi, TexelRect::all(*field_), horizons);
 }
 
+namespace {
+// One texel's key light: irradiance x max(0, n . direction) x the disc's share above the horizon.
+struct KeyLightTexel {
+  glm::vec3 direction, irradiance;
+  float elevation, a;
+  void add(const glm::vec3& normal, float horizon, glm::vec3& out) const {
+    const float c = glm::dot(normal, direction);
+    if (!(c > 0)) return;
+    const float above = elevation - horizon;  // most texels see all of it or none
+    const float f = above >= a ? 1.0f : (above <= -a ? 0.0f : disc_share_above(above, a));
+    if (f > 0) out += irradiance * (c * f);
+  }
+};
+}  // namespace
+
 template <int N>
 void TerrainShadowing<N>::add_key_light(const glm::vec3& direction, float angular_radius,
                                         const glm::vec3& irradiance,
                                         std::span<const float> horizons,
                                         std::vector<glm::vec3>& out) const {
   if (!field_) throw std::invalid_argument("terrain shadowing: add_key_light before update");
+  out.resize(normals_.size(), glm::vec3(0.0f));
+  const TexelRect all = TexelRect::all(*field_);
+  add_key_light(direction, angular_radius, irradiance, horizons, out, {&all, 1});
+}
+
+template <int N>
+void TerrainShadowing<N>::add_key_light(const glm::vec3& direction, float angular_radius,
+                                        const glm::vec3& irradiance,
+                                        std::span<const float> horizons,
+                                        std::vector<glm::vec3>& out,
+                                        std::span<const TexelRect> regions) const {
+  if (!field_) throw std::invalid_argument("terrain shadowing: add_key_light before update");
   check_key_light(direction, angular_radius, irradiance);
   const std::size_t n = normals_.size();
   if (horizons.size() != n)
     throw std::invalid_argument("add_key_light: horizons are not one per texel");
-  out.resize(n, glm::vec3(0.0f));
-  const float elevation = std::asin(std::clamp(direction.z, -1.0f, 1.0f));
-  const float a = angular_radius;
-  if (elevation + a <= 0) return;  // the clamped horizon hides the whole disc everywhere
-  tbb::parallel_for(std::size_t{0}, n, std::size_t{4096}, [&](std::size_t i0) {
-    const std::size_t i1 = std::min(i0 + 4096, n);
-    for (std::size_t i = i0; i < i1; ++i) {
-      const float c = glm::dot(normals_[i], direction);
-      if (!(c > 0)) continue;
-      const float above = elevation - horizons[i];  // most texels see all of it or none
-      const float f = above >= a ? 1.0f : (above <= -a ? 0.0f : disc_share_above(above, a));
-      if (f > 0) out[i] += irradiance * (c * f);
-    }
+  if (out.size() != n) throw std::invalid_argument("add_key_light: output is not one per texel");
+  const KeyLightTexel k{direction, irradiance, std::asin(std::clamp(direction.z, -1.0f, 1.0f)),
+                        angular_radius};
+  if (k.elevation + k.a <= 0) return;  // the clamped horizon hides the whole disc everywhere
+  const int w = field_->width;
+  // Rows of 64 texels a task: whole regions are small (tiles), the whole field is one region.
+  tbb::parallel_for(std::size_t{0}, regions.size(), [&](std::size_t j) {
+    const TexelRect& r = regions[j];
+    tbb::parallel_for(r.y0, r.y1, [&](int y) {
+      for (int x = r.x0; x < r.x1; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * w + x;
+        k.add(normals_[i], horizons[i], out[i]);
+      }
+    });
   });
 }
 

@@ -14,6 +14,7 @@
 #include <glm/vec3.hpp>
 
 #include "penumbra/sh/basis.h"
+#include "penumbra/systems/terrain_shadow/environment_refresh.h"
 #include "penumbra/systems/terrain_shadow/light_refresh.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
@@ -45,6 +46,14 @@ struct TerrainShadowState {
     std::vector<float> horizons;
   };
   std::vector<KeyLight> key_lights;
+  std::uint64_t key_horizons_generation = 0;  // bumped whenever a key light's horizons are swept
+  std::vector<std::size_t> key_sources;       // this frame's key lights: their source indices
+  // The environment's share per texel (SH + key lights, W/m^2), re-shaded per tile
+  // (environment_refresh.h), and the composed radiance last published.
+  std::vector<glm::vec3> environment_irradiance;
+  std::vector<glm::vec3> composed;
+  EnvironmentRefresh environment_refresh;
+  std::vector<TexelRect> lights_dirty;  // tiles the lights re-shaded since the last compose
   std::uint64_t composed_sources = ~0ull;    // (sources_version + 1) << 8 | key-light mask
   LightRefresh refresh;                      // which tiles the lights re-shade
   std::uint64_t refresh_visibility = ~0ull;  // visibility_stamp the refresh tiles were made for

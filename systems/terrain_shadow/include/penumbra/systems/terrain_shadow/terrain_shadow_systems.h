@@ -31,6 +31,7 @@
 #include "penumbra/components/environment_light.h"
 #include "penumbra/ecs/world.h"
 #include "penumbra/jobs/schedule.h"
+#include "penumbra/systems/terrain_shadow/environment_refresh.h"
 #include "penumbra/systems/terrain_shadow/light_refresh.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
@@ -46,6 +47,7 @@ using components::EnvironmentSources;
 struct TerrainShadowSettings {
   TerrainShadowConfig config;
   LightRefreshConfig light_refresh;
+  EnvironmentRefreshConfig environment_refresh;  // read with config, when a terrain gets its state
   EnvironmentSources sources = EnvironmentSources::kKeyLights;
   // A key light's horizons are swept again when its azimuth moved by more than this share of
   // its angular radius (the width of its penumbra; a point light: every move).

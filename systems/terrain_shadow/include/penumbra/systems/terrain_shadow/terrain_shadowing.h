@@ -154,6 +154,10 @@ class TerrainShadowing {
   // irradiance[i] = E_env of texel i for the (already rotated) SH radiance; resized to fit.
   void shade_environment(const sh::CoeffsRgb<N>& radiance,
                          std::vector<glm::vec3>& irradiance) const;
+  // The same for the texels of `regions` only (irradiance must already have one value per
+  // texel; others are left as they are), bit for bit; parallel over the regions.
+  void shade_environment(const sh::CoeffsRgb<N>& radiance, std::vector<glm::vec3>& irradiance,
+                         std::span<const TexelRect> regions) const;
   // irradiance[i] += E of one spherical light (centre relative to sample (0, 0) at height 0),
   // shaded as config().light_shading says. Radius 0, a receiver inside the light, or the light
   // wholly behind the receiver's tangent plane contribute 0 (kCapHorizon also gives exactly 0
@@ -184,6 +188,11 @@ class TerrainShadowing {
   void key_light_horizons(const glm::vec3& direction, std::vector<float>& horizons) const;
   void add_key_light(const glm::vec3& direction, float angular_radius, const glm::vec3& irradiance,
                      std::span<const float> horizons, std::vector<glm::vec3>& irradiance_out) const;
+  // The same for the texels of `regions` only (irradiance_out has one value per texel), bit for
+  // bit.
+  void add_key_light(const glm::vec3& direction, float angular_radius, const glm::vec3& irradiance,
+                     std::span<const float> horizons, std::vector<glm::vec3>& irradiance_out,
+                     std::span<const TexelRect> regions) const;
 
  private:
   void compute_normals(const TexelRect& r);
