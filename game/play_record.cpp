@@ -81,6 +81,8 @@ std::string to_json(const PlayRecord& r) {
                  {"visible_fraction", r.light_visible_fraction},
                  {"worst_observed_relative", r.light_worst_observed},
                  {"worst_deferred_x_threshold", r.light_worst_deferred}};
+  j["environment"] = {{"tiles_per_frame", r.environment_tiles_per_frame},
+                      {"stale_per_frame", r.environment_stale_per_frame}};
   j["systems"] = json::array();  // done / skipped per frame: null when it does not report
   for (const SystemRow& row : r.systems)
     j["systems"].push_back(

@@ -56,6 +56,9 @@ struct PlayRecord {
   double light_worst_observed = 0;    // largest real change of a re-shaded texel / its irradiance
   double light_visible_fraction = 0;  // re-shaded texels that had changed by over the tolerance
   double light_worst_deferred = 0;    // largest bound of a tile left waiting / its threshold
+  // The turning environment's re-shading (environment_refresh.h): mean tiles re-shaded and
+  // over the tolerance per frame (of light_tiles: both use the same tiles).
+  double environment_tiles_per_frame = 0, environment_stale_per_frame = 0;
   std::vector<SystemRow> systems;     // in the job graph's order, sync points left out
   // Other thread splits of the same scene, run as child processes (their JSON records).
   std::vector<std::string> splits;

@@ -107,6 +107,8 @@ struct Sim {
   std::size_t light_frames = 0, light_tiles_total = 0, light_tiles = 0;
   std::size_t light_observed = 0, light_visible = 0;
   double light_worst_observed = 0, light_worst_deferred = 0;
+  // The turning environment's re-shading (environment_refresh.h), over the same frames.
+  std::size_t environment_tiles_total = 0, environment_stale_total = 0;
 
   const jobs::FrameStats& step(int frame, int frames) {
     const jobs::FrameStats& stats = executor.run(schedule, world);
@@ -123,6 +125,8 @@ struct Sim {
             light_visible += r.observed_visible;
             light_worst_observed = std::max(light_worst_observed, double(r.worst_observed));
             light_worst_deferred = std::max(light_worst_deferred, double(r.worst_deferred));
+            environment_tiles_total += x.environment_refresh.stats().refreshed;
+            environment_stale_total += x.environment_refresh.stats().stale;
           });
     }
     if (!options.trace.empty() && frames > 0 && frame >= frames - 3) traced.push_back(stats);
@@ -395,6 +399,12 @@ int run_headless(const Options& o) {
     record.light_worst_observed = sim.light_worst_observed;
     record.light_visible_fraction =
         sim.light_observed ? static_cast<double>(sim.light_visible) / sim.light_observed : 0.0;
+    if (sim.light_frames > 0) {
+      record.environment_tiles_per_frame =
+          static_cast<double>(sim.environment_tiles_total) / sim.light_frames;
+      record.environment_stale_per_frame =
+          static_cast<double>(sim.environment_stale_total) / sim.light_frames;
+    }
     record.light_worst_deferred = sim.light_worst_deferred;
     const std::size_t n = sim.table.frames();
     for (const jobs::TimingTable::Row& row : sim.table.rows())

@@ -64,6 +64,10 @@ def tables(r, alone=None):
         f"| re-shaded texels that had changed visibly while waiting | "
         f"{100 * lights['visible_fraction']:.1f}% (largest change "
         f"{100 * lights['worst_observed_relative']:.0f}% of the texel's irradiance) | - |",
+        *([f"| environment tiles re-shaded per frame (turning sky) | "
+           f"{r['environment']['tiles_per_frame']:.1f} of {lights['tiles']} "
+           f"({r['environment']['stale_per_frame']:.1f} over the tolerance) | <= 1/4 |"]
+          if "environment" in r else []),
         f"| threads | simulation {th['simulation']}, lavapipe {th['lavapipe'] or 'default'} | - |",
     ]
     passes = r.get("gpu_pass_ms", {})
