@@ -127,6 +127,36 @@ TEST(ExactTransfer, SevenBandTableMatchesTheLibrarysBasis) {
   }
 }
 
+template <int N>
+void expect_eight_lanes_equal_eight_calls(std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  sh::Coeffs<N + 1> vis[8];
+  glm::vec3 normals[8];
+  for (int l = 0; l < 8; ++l) {
+    for (float& c : vis[l]) c = u(rng);
+    normals[l] = glm::normalize(glm::vec3(u(rng), u(rng), 0.2f + std::abs(u(rng))));
+  }
+  sh::Coeffs<N> out[8];
+  exact_diffuse_transfer_8<N>(vis, normals, out);
+  for (int l = 0; l < 8; ++l) {
+    const sh::Coeffs<N> one = exact_diffuse_transfer<N>(vis[l], normals[l]);
+    for (int i = 0; i < N * N; ++i) ASSERT_EQ(out[l][i], one[i]) << "N " << N << " lane " << l;
+  }
+}
+
+TEST(ExactTransfer, EightLanesEqualEightCalls) {
+  // TerrainShadowing runs the couplings eight texels at a time and the rest one at a time; an
+  // edit's texels then go whichever way their row's batching falls, so the two must agree bit
+  // for bit (update_edit against update).
+  std::mt19937 rng(19);
+  for (int round = 0; round < 4; ++round) {
+    expect_eight_lanes_equal_eight_calls<3>(rng);
+    expect_eight_lanes_equal_eight_calls<4>(rng);
+    expect_eight_lanes_equal_eight_calls<5>(rng);
+    expect_eight_lanes_equal_eight_calls<6>(rng);
+  }
+}
+
 TEST(SphericalLight, SmallLightAboveGivesPiSin2) {
   // Unit radiance, light straight above a +z receiver, unoccluded: E = pi sin^2(theta) for the
   // exact cap. Four bands overestimate by a factor tending to 1.0625 for small lights (the
