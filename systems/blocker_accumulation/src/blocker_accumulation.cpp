@@ -303,18 +303,20 @@ sh::Coeffs<N> BlockerAccumulation<N>::visibility(const glm::vec3& p, const glm::
 template <int N>
 glm::vec3 BlockerAccumulation<N>::irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
                                              const glm::vec3& n, sh::Coeffs<N>* visibility_out,
-                                             const sh::Coeffs<N>* extra_log) const {
+                                             const sh::Coeffs<N>* extra_log,
+                                             bool with_lights) const {
   sh::Coeffs<N> log_v = log_visibility(p, n);
   if (extra_log)
     for (std::size_t i = 0; i < log_v.size(); ++i) log_v[i] += (*extra_log)[i];
-  return irradiance_from_log(radiance, p, n, log_v, visibility_out);
+  return irradiance_from_log(radiance, p, n, log_v, visibility_out, with_lights);
 }
 
 template <int N>
 glm::vec3 BlockerAccumulation<N>::irradiance_from_log(const sh::CoeffsRgb<N>& radiance,
                                                       const glm::vec3& p, const glm::vec3& n,
                                                       const sh::Coeffs<N>& log_v,
-                                                      sh::Coeffs<N>* visibility_out) const {
+                                                      sh::Coeffs<N>* visibility_out,
+                                                      bool with_lights) const {
   sh::Coeffs<N> transfer;
   float scale = 1;
   if (settings_.shading == BlockerShading::kProduct) {
@@ -330,7 +332,8 @@ glm::vec3 BlockerAccumulation<N>::irradiance_from_log(const sh::CoeffsRgb<N>& ra
     if (visibility_out) *visibility_out = sh::exp_visibility<N>(log_v);
   }
   sh::CoeffsRgb<N> seen = radiance;
-  for (const LightSource& l : lights_) {  // [Meier13] eq. 4.27: the light's cap as ZH
+  for (const LightSource& l : with_lights ? std::span<const LightSource>(lights_)
+                                          : std::span<const LightSource>()) {  // [Meier13] eq. 4.27
     const glm::vec3 to = l.centre - p;
     const float d = glm::length(to);
     if (!(d > l.radius) || !(l.radius > 0)) continue;  // inside the light: nothing from it

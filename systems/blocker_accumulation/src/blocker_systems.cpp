@@ -270,6 +270,9 @@ void shade(ecs::World& w) {
   BlockerField& field = w.resource<BlockerField>();
   if (!field.accumulation) return;
   const BlockerAccumulation<N>& acc = *field.accumulation;
+  const auto* routing = w.try_resource<const components::LocalLightRouting>();
+  const bool local_lights =  // else spherical_lights.gather gives them (ReceiverLighting::local)
+      !routing || routing->path == components::LocalLightPath::kBlockerSh;
   std::vector<KeyLight> keys;
   const sh::CoeffsRgb<N> radiance = receiver_environment(w, keys);
   const components::Camera* camera = w.try_resource<const components::Camera>();
@@ -352,7 +355,8 @@ void shade(ecs::World& w) {
               }
               nn /= len;
               const sh::Coeffs<N>* extra = cast ? &*cast : nullptr;
-              (*irradiance)[i] = acc.irradiance(radiance, p, nn, &(*visibility)[i], extra);
+              (*irradiance)[i] =
+                  acc.irradiance(radiance, p, nn, &(*visibility)[i], extra, local_lights);
               (*shown)[i] =
                   lobe ? acc.glossy_radiance(radiance, p, nn, glm::normalize(camera->position - p),
                                              *lobe, extra)
@@ -444,7 +448,7 @@ void add_blocker_systems(jobs::Schedule& schedule) {
       .writes<BlockerField>();
   schedule.add_task("blockers.shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
       .reads<Receiver, Transform, components::Material, components::Camera, EnvironmentLight,
-             components::Terrain, BlockerSettingsResource>()
+             components::Terrain, BlockerSettingsResource, components::LocalLightRouting>()
       .writes<BlockerField, ReceiverLighting, components::VertexLighting>();
   schedule.add_task("blockers.terrain", shade_terrain)
       .reads<components::Terrain, terrain_shadow::TerrainHorizons, BlockerField, EnvironmentLight,

@@ -117,28 +117,31 @@ void extract_render_packet(ecs::World& world, render::RenderPacket& packet,
     }
   });
 
-  world.query<const Transform, const MeshInstance>().each([&](ecs::Entity e, const Transform& t,
-                                                              const MeshInstance& m) {
-    if (!m.mesh) return;
-    render::MeshDraw d;
-    d.mesh = m.mesh;
-    d.transform = t.world;
-    const BaseColor* c = world.get<BaseColor>(e);
-    const Material* mat = world.get<Material>(e);
-    d.albedo = mat ? mat->albedo : c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
-    if (mat && mat->phong_exponent > 0) d.specular_exponent = 4.0f * mat->phong_exponent;
-    if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
-    // One-bounce light from spherical lights ([Guerrero08] eq. 12), its own term in
-    // ReceiverLighting: added here as radiance per unit albedo, E / pi.
-    const ReceiverLighting* r = world.get<ReceiverLighting>(e);
-    if (r && r->indirect && d.vertex_lighting && r->indirect->size() == d.vertex_lighting->size()) {
-      auto sum = std::make_shared<std::vector<glm::vec3>>(*d.vertex_lighting);
-      for (std::size_t i = 0; i < sum->size(); ++i)
-        (*sum)[i] += (*r->indirect)[i] * std::numbers::inv_pi_v<float>;
-      d.vertex_lighting = std::move(sum);
-    }
-    packet.meshes.push_back(std::move(d));
-  });
+  world.query<const Transform, const MeshInstance>().each(
+      [&](ecs::Entity e, const Transform& t, const MeshInstance& m) {
+        if (!m.mesh) return;
+        render::MeshDraw d;
+        d.mesh = m.mesh;
+        d.transform = t.world;
+        const BaseColor* c = world.get<BaseColor>(e);
+        const Material* mat = world.get<Material>(e);
+        d.albedo = mat ? mat->albedo : c ? glm::vec3(c->rgba) : glm::vec3(m.mesh->base_color);
+        if (mat && mat->phong_exponent > 0) d.specular_exponent = 4.0f * mat->phong_exponent;
+        if (const VertexLighting* l = world.get<VertexLighting>(e)) d.vertex_lighting = l->rgb;
+        // One-bounce light from spherical lights ([Guerrero08] eq. 12) and the local lights'
+        // direct light when spherical_lights.gather gives it (LocalLightRouting), each its own term
+        // in ReceiverLighting: added here as radiance per unit albedo, E / pi.
+        const ReceiverLighting* r = world.get<ReceiverLighting>(e);
+        for (const auto* term : {r ? &r->indirect : nullptr, r ? &r->local : nullptr}) {
+          if (!term || !*term || !d.vertex_lighting || (*term)->size() != d.vertex_lighting->size())
+            continue;
+          auto sum = std::make_shared<std::vector<glm::vec3>>(*d.vertex_lighting);
+          for (std::size_t i = 0; i < sum->size(); ++i)
+            (*sum)[i] += (**term)[i] * std::numbers::inv_pi_v<float>;
+          d.vertex_lighting = std::move(sum);
+        }
+        packet.meshes.push_back(std::move(d));
+      });
 
   world.query<const DebugSphere>().each([&](const DebugSphere& s) {
     packet.spheres.push_back({s.center, s.radius, s.color});

@@ -20,6 +20,7 @@
 #include "penumbra/components/receiver_lighting.h"
 #include "penumbra/components/reflector.h"
 #include "penumbra/components/reflector_radiance.h"
+#include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/data/height_field.h"
@@ -77,6 +78,63 @@ sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   return radiance;
 }
 
+// The local lights as spherical lights ([Guerrero08] sec. 4: a uniform sphere's radiance SH is
+// its band-0 coefficient), shadowed by every blocker sphere of the frame, each object's spheres
+// one object (for per-object blocking); null when the routing does not ask for it or there is
+// no local light.
+void update_local_gather(ecs::World& w, SphericalLightField& field,
+                         const SphereLightSettings& settings,
+                         const blocker_accumulation::BlockerField* blockers) {
+  const auto* routing = w.try_resource<const components::LocalLightRouting>();
+  field.local_lights = 0;
+  if (!routing || routing->path != components::LocalLightPath::kSphereLightGather) {
+    field.local_gather.reset();
+    return;
+  }
+  std::vector<SphereLightSource<N>> sources;
+  std::uint32_t object = 0;
+  if (blockers && blockers->accumulation) {
+    const auto spheres = blockers->accumulation->blockers();
+    for (const blocker_accumulation::BlockerGroup& g : blockers->accumulation->groups()) {
+      for (std::uint32_t k = g.first; k < g.first + g.count; ++k) {
+        SphereLightSource<N> s;  // radiance zero: blocks only
+        s.centre = spheres[k].centre;
+        s.radius = spheres[k].radius;
+        s.object = object;
+        sources.push_back(s);
+      }
+      ++object;
+    }
+  }
+  w.query<const components::SphericalLight>().each([&](const components::SphericalLight& l) {
+    const bool finite = std::isfinite(l.position.x) && std::isfinite(l.position.y) &&
+                        std::isfinite(l.position.z) && std::isfinite(l.radius) &&
+                        std::isfinite(l.radiance.x) && std::isfinite(l.radiance.y) &&
+                        std::isfinite(l.radiance.z);
+    if (!finite || !(l.radius > 0)) return;  // as blockers.gather: radius 0 is no light
+    SphereLightSource<N> s;
+    s.centre = l.position;
+    s.radius = l.radius;
+    s.object = object++;
+    for (int c = 0; c < 3; ++c)
+      s.radiance[c][0] = l.radiance[c] * 2.0f * std::sqrt(std::numbers::pi_v<float>);  // Y_00
+    s.blocks = false;  // a lamp shadows nothing ([Guerrero08] treats lights and blockers alike)
+    sources.push_back(s);
+    ++field.local_lights;
+  });
+  if (field.local_lights == 0) {
+    field.local_gather.reset();
+    return;
+  }
+  // A lamp is direct light: never cut off or faded by its size in the sky (min_sin 0, which
+  // also lets every blocker sphere shadow it wherever it is).
+  SphereLightSettings local = settings;
+  local.blocker.min_sin = 0.0f;
+  if (!field.local_gather || field.local_gather->settings() != local)
+    field.local_gather = std::make_shared<SphereLightGather<N>>(local);
+  field.local_gather->set_lights(std::move(sources));
+}
+
 void reflect(ecs::World& w) {
   SphericalLightField& field = w.resource<SphericalLightField>();
   const SphericalLightSettingsResource& settings =
@@ -93,6 +151,7 @@ void reflect(ecs::World& w) {
   }
   const blocker_accumulation::BlockerField* blockers =
       w.try_resource<const blocker_accumulation::BlockerField>();
+  update_local_gather(w, field, settings.settings, blockers);
   std::vector<SphereLightSource<N>> lights;
   if (settings.indirect && blockers && blockers->accumulation) {
     const sh::CoeffsRgb<N> environment = environment_radiance(w);
@@ -162,16 +221,61 @@ void reflect(ecs::World& w) {
   field.gather->set_lights(std::move(lights));
 }
 
+// [Guerrero08] eq. 14 at every point of one receiving entity (world space); zeros without a
+// gather when the entity is beyond every light's reach. Null, with an error, for bad input.
+std::shared_ptr<std::vector<glm::vec3>> gather_points(const SphereLightGather<N>& gather,
+                                                      ecs::Entity e, const Receiver& r,
+                                                      const glm::mat4& world,
+                                                      std::vector<std::string>& errors) {
+  const std::size_t n = r.points->size();
+  // Beyond every light's reach: zeros, no gather (the bound of the points in world space).
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& q : *r.points) {
+    const glm::vec3 p = glm::vec3(world * glm::vec4(q, 1.0f));
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
+  }
+  bool reached = false;
+  const float min_sin = std::max(gather.settings().blocker.min_sin, 1e-3f);
+  for (const SphereLightSource<N>& l : gather.lights()) {
+    if (l.radiance[0][0] == 0 && l.radiance[1][0] == 0 && l.radiance[2][0] == 0) continue;
+    const glm::vec3 nearest = glm::clamp(l.centre, lo, hi);
+    reached = reached || glm::length(nearest - l.centre) < l.radius / min_sin;
+  }
+  auto out = std::make_shared<std::vector<glm::vec3>>(n, glm::vec3(0.0f));
+  if (!reached) return out;
+  const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
+  std::mutex error_mutex;
+  std::string error;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 128),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+                        const glm::vec3 p = glm::vec3(world * glm::vec4((*r.points)[i], 1.0f));
+                        glm::vec3 nn = normal_matrix * (*r.normals)[i];
+                        const float len = glm::length(nn);
+                        if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
+                            !std::isfinite(p.y) || !std::isfinite(p.z)) {
+                          std::lock_guard lock(error_mutex);
+                          error = entity_name(e) + ": receiver point " + std::to_string(i) +
+                                  " or its normal is not finite";
+                          continue;
+                        }
+                        (*out)[i] = gather.irradiance(p, nn / len);  // [Guerrero08] eq. 14
+                      }
+                    });
+  if (!error.empty()) errors.push_back(error + "; its light from spherical lights is left out");
+  return out;
+}
+
 void gather(ecs::World& w) {
   SphericalLightField& field = w.resource<SphericalLightField>();
   const SphericalLightSettingsResource& settings =
       w.resource<const SphericalLightSettingsResource>();
   field.receivers = 0;
-  if (!settings.indirect || !field.gather) {
-    w.query<ReceiverLighting>().each([](ReceiverLighting& l) { l.indirect.reset(); });
-    return;
-  }
-  const SphereLightGather<N>& gather = *field.gather;
+  const SphereLightGather<N>* indirect = settings.indirect ? field.gather.get() : nullptr;
+  const SphereLightGather<N>* local = field.local_gather.get();
+  if (!indirect) w.query<ReceiverLighting>().each([](ReceiverLighting& l) { l.indirect.reset(); });
+  if (!local) w.query<ReceiverLighting>().each([](ReceiverLighting& l) { l.local.reset(); });
+  if (!indirect && !local) return;
   struct Item {
     ecs::Entity e;
     const Receiver* r;
@@ -183,9 +287,10 @@ void gather(ecs::World& w) {
       [&](ecs::Entity e, const Receiver& r, const Transform& t, ReceiverLighting& out) {
         all.push_back({e, &r, &t, &out});
       });
-  // Every entity without an indirect term now, then round robin within the point budget.
+  // Every entity missing a term now, then round robin within the point budget.
   const std::vector<Item> now = blocker_accumulation::pick_receivers(
-      all, settings.receiver_budget, field.cursor, [](const Item& it) { return !it.out->indirect; },
+      all, settings.receiver_budget, field.cursor,
+      [&](const Item& it) { return (indirect && !it.out->indirect) || (local && !it.out->local); },
       [](const Item& it) { return it.r->points ? it.r->points->size() : std::size_t{0}; });
   jobs::report_work(now.size(), all.size() - now.size());  // not gathered again this frame
   for (const Item& it : now) {
@@ -195,47 +300,9 @@ void gather(ecs::World& w) {
                              ": receiver points and normals differ or the transform is not finite");
       continue;
     }
-    const std::size_t n = r.points->size();
-    const glm::mat4 world = it.t->world;
-    // Beyond every light's reach: zeros, no gather (the bound of the points in world space).
-    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    for (const glm::vec3& q : *r.points) {
-      const glm::vec3 p = glm::vec3(world * glm::vec4(q, 1.0f));
-      lo = glm::min(lo, p), hi = glm::max(hi, p);
-    }
-    bool reached = false;
-    const float min_sin = std::max(gather.settings().blocker.min_sin, 1e-3f);
-    for (const SphereLightSource<N>& l : gather.lights()) {
-      const glm::vec3 nearest = glm::clamp(l.centre, lo, hi);
-      reached = reached || glm::length(nearest - l.centre) < l.radius / min_sin;
-    }
-    if (!reached) {
-      it.out->indirect = std::make_shared<std::vector<glm::vec3>>(n, glm::vec3(0.0f));
-      continue;
-    }
-    const glm::mat3 normal_matrix = glm::transpose(glm::inverse(glm::mat3(world)));
-    auto indirect = std::make_shared<std::vector<glm::vec3>>(n, glm::vec3(0.0f));
-    std::mutex error_mutex;
-    std::string error;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 128),
-                      [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i < range.end(); ++i) {
-                          const glm::vec3 p = glm::vec3(world * glm::vec4((*r.points)[i], 1.0f));
-                          glm::vec3 nn = normal_matrix * (*r.normals)[i];
-                          const float len = glm::length(nn);
-                          if (!(len > 0) || !std::isfinite(len) || !std::isfinite(p.x) ||
-                              !std::isfinite(p.y) || !std::isfinite(p.z)) {
-                            std::lock_guard lock(error_mutex);
-                            error = entity_name(it.e) + ": receiver point " + std::to_string(i) +
-                                    " or its normal is not finite";
-                            continue;
-                          }
-                          (*indirect)[i] = gather.irradiance(p, nn / len);  // [Guerrero08] eq. 14
-                        }
-                      });
-    if (!error.empty()) field.errors.push_back(error + "; its indirect light is left out");
-    it.out->indirect = std::move(indirect);
-    field.receivers += n;
+    if (indirect) it.out->indirect = gather_points(*indirect, it.e, r, it.t->world, field.errors);
+    if (local) it.out->local = gather_points(*local, it.e, r, it.t->world, field.errors);
+    field.receivers += r.points->size();
   }
 }
 
@@ -299,12 +366,13 @@ void add_spherical_light_systems(jobs::Schedule& schedule) {
   schedule
       .add_task("spherical_lights.reflect", [](jobs::SystemContext& ctx) { reflect(ctx.world()); })
       .reads<Reflector, Transform, blocker_accumulation::BlockerField, EnvironmentLight,
-             components::Terrain, SphericalLightSettingsResource>()
+             components::Terrain, SphericalLightSettingsResource, components::SphericalLight,
+             components::LocalLightRouting>()
       .writes<ReflectorRadiance, SphericalLightField>();
   schedule
       .add_task("spherical_lights.gather", [](jobs::SystemContext& ctx) { gather(ctx.world()); })
       .reads<Receiver, Transform, SphericalLightSettingsResource>()
-      .writes<SphericalLightField, ReceiverLighting>();
+      .writes<SphericalLightField, ReceiverLighting>();  // local_gather: made by reflect
   schedule.add_task("spherical_lights.terrain", shade_terrain)
       .reads<components::Terrain, terrain_shadow::TerrainHorizons, SphericalLightField,
              SphericalLightSettingsResource>()

@@ -23,6 +23,9 @@ struct ReceiverLighting {
   std::shared_ptr<const std::vector<glm::vec3>> irradiance;   // one per receiver point
   std::shared_ptr<const std::vector<glm::vec3>> radiance;     // one per receiver point
   std::shared_ptr<const std::vector<glm::vec3>> indirect;     // one per receiver point, or null
+  // The local lights' direct irradiance through spherical_lights.gather (LocalLightRouting
+  // kSphereLightGather; `irradiance` then leaves them out), one per receiver point, or null.
+  std::shared_ptr<const std::vector<glm::vec3>> local;
 };
 
 }  // namespace penumbra::components

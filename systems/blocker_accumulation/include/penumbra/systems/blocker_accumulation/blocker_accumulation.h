@@ -102,6 +102,7 @@ class BlockerAccumulation {
   // order, without gaps (each group's bound is taken as given).
   void set_blockers(std::vector<WorldSphere> spheres, std::vector<BlockerGroup> groups = {});
   std::span<const WorldSphere> blockers() const { return spheres_; }
+  std::span<const BlockerGroup> groups() const { return groups_; }  // cover blockers() in order
   // Local lights added to every receiver's radiance (throws std::invalid_argument naming a light
   // with a non-finite centre or radiance, or a negative radius). A receiver inside a light gets
   // nothing from it.
@@ -123,14 +124,17 @@ class BlockerAccumulation {
   // `visibility_out`, when given, receives the visibility SH. `extra_log`, when given, is more
   // log-SH visibility added to the blockers' sum before the exponential (the terrain's cast
   // shadow, [Giraud] sec. 4.1), so all of it shadows in one exponential.
+  // `with_lights` false leaves the local lights out (they reach receivers another way:
+  // components::LocalLightRouting).
   glm::vec3 irradiance(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p, const glm::vec3& n,
                        sh::Coeffs<N>* visibility_out = nullptr,
-                       const sh::Coeffs<N>* extra_log = nullptr) const;
+                       const sh::Coeffs<N>* extra_log = nullptr, bool with_lights = true) const;
   // What irradiance() does after log_visibility: shading from a given (depth-limited) log sum
   // at p with unit normal n (lights, kProduct or kLogBrdf). For ReceiverClusters.
   glm::vec3 irradiance_from_log(const sh::CoeffsRgb<N>& radiance, const glm::vec3& p,
                                 const glm::vec3& n, const sh::Coeffs<N>& log_v,
-                                sh::Coeffs<N>* visibility_out = nullptr) const;
+                                sh::Coeffs<N>* visibility_out = nullptr,
+                                bool with_lights = true) const;
   // How much of a distant light's disc (unit `direction`, angular radius `angular_radius`) the
   // blockers leave visible from p: the product over the blockers near p (the grid's candidates:
   // spheres of groups whose bound has sin(angular radius) above min_sin there, so a shadow

@@ -74,6 +74,10 @@ struct SphericalLightTerrainState {
 struct SphericalLightField {
   std::shared_ptr<SphereLightGather<kSystemBands>> gather;
   std::shared_ptr<SphereLightGather<kSystemBands>> terrain_gather;  // terrain_horizon's
+  // components::LocalLightRouting kSphereLightGather: the local lights (emitting only) and every
+  // blocker sphere of the frame (blocking only), for ReceiverLighting::local; else null.
+  std::shared_ptr<SphereLightGather<kSystemBands>> local_gather;
+  std::size_t local_lights = 0;  // local lights in local_gather this frame
   std::shared_ptr<const ReflectorLighting<kSystemBands>> lighting;  // cell sums, per direction set
   std::size_t lights = 0;                                           // spherical lights this frame
   std::size_t sample_points = 0;  // sample points lit this frame (pass 1)
