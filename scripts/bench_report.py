@@ -11,7 +11,9 @@ goal counts (PASS / MISS / N/A); groups with no GROUP_summary.json are listed as
 per group: the machine as its JSON records it, the summary table (cases, values, ratios,
 floors and value / floor, goals and their status), its charts (GROUP.svg, GROUP_*.svg; the
 Pareto front is drawn by the chart writer), and the tables scripts/bench_table.py writes from
-the group's records. Last, the main job's headline numbers from play.json (scripts/play_table.py).
+the group's records. Then the main job's headline numbers from play.json (scripts/play_table.py),
+and last the stability table from stability.json (scripts/stability_table.py, `./penumbra
+stability`) when it is there.
 Every text taken from the JSON is escaped. Standard library only.
 """
 import argparse
@@ -346,6 +348,36 @@ def play_section(folder):
     return row, "\n".join(parts), m.get("cpu")
 
 
+def stability_section(folder):
+    """The stability table (scripts/stability_table.py's stability.json), or a line saying how to
+    make it."""
+    path = os.path.join(folder, "stability.json")
+    head = "<section id=\"stability\">\n<h2>Stability</h2>"
+    try:
+        table = read_json(path)
+    except (OSError, ValueError):
+        table = None
+    if not isinstance(table, dict) or table.get("format") != "penumbra-stability-table":
+        return (f"{head}\n<p class=\"notrun\">No stability table ({esc(path)}): "
+                "<code>./penumbra stability</code> writes it.</p>\n</section>")
+    rows = table.get("rows", [])
+    out = [head,
+           f"<p>{len(rows)} failure-mode, bad-input and degenerate cases, from the tests' "
+           f"PENUMBRA_STABILITY records ({esc(table.get('date', '-'))}; docs/stability.md).</p>",
+           "<table>",
+           "<tr><th>system</th><th>input</th><th>what happens</th><th>error (measured)</th>"
+           "<th>mitigation</th><th>test</th></tr>"]
+    for r in rows:
+        if r.get("input") is None:
+            out.append(f"<tr><td>{esc(r.get('system'))}</td><td class=\"notrun\" colspan=\"4\">"
+                       f"no record: run the test</td><td>{esc(r.get('test'))}</td></tr>")
+            continue
+        out.append("<tr>" + "".join(f"<td>{esc(r.get(k) or '-')}</td>" for k in (
+            "system", "input", "behaviour", "error", "mitigation", "test")) + "</tr>")
+    out += ["</table>", "</section>"]
+    return "\n".join(out)
+
+
 def report(folder):
     groups = list(GROUPS)
     try:
@@ -363,6 +395,7 @@ def report(folder):
         sections.append(section)
     rows.append(play[0])
     sections.append(play[1])
+    sections.append(stability_section(folder))
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     return "\n".join([
         "<!DOCTYPE html>",

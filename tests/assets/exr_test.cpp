@@ -14,6 +14,7 @@
 #include <map>
 #include <numbers>
 
+#include "common/stability.h"
 #include "test_support.h"
 
 namespace penumbra::assets {
@@ -103,6 +104,8 @@ TEST(Exr, LuminanceOnlyMapIsGrey) {
 }
 
 TEST(Exr, NegativeLobesAreClampedKeepingEachBlocksEnergy) {
+  PENUMBRA_STABILITY("negative texels (ringing around a sun) in an EXR map",
+                     "clamped to 0, each block's energy kept, counted", "-");
   TempDir dir;
   const int w = 16, h = 8;
   std::vector<float> r(w * h, 1.0f), g(w * h, 1.0f), b(w * h, 1.0f);
@@ -130,6 +133,8 @@ TEST(Exr, NegativeLobesAreClampedKeepingEachBlocksEnergy) {
 }
 
 TEST(Exr, BadFilesThrowLoadErrorNamingFileAndReason) {
+  PENUMBRA_STABILITY("missing, garbage and truncated EXR files",
+                     "LoadError naming the file and the reason", "-");
   TempDir dir;
   expect_load_error([&] { load_environment_map(dir.file("missing.exr")); }, "missing.exr",
                     "no such file");
@@ -181,6 +186,8 @@ TEST(Exr, SingleChannelHeightMapWithSidecar) {
 }
 
 TEST(Exr, BadHeightMaps) {
+  PENUMBRA_STABILITY("EXR height maps with NaN, wrong channels or size",
+                     "LoadError naming the file", "-");
   TempDir dir;
   const float q = std::numeric_limits<float>::quiet_NaN(),
               inf = std::numeric_limits<float>::infinity();

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/stability.h"
 #include "test_support.h"
 
 namespace penumbra::assets {
@@ -10,6 +11,7 @@ namespace {
 using test::expect_load_error;
 
 TEST(FileIo, ReadsWholeFilesAndNamesTheFileOnError) {
+  PENUMBRA_STABILITY("a missing or unreadable file", "an error naming the file", "-");
   test::TempDir dir;
   const auto path = dir.write("bytes.bin", std::string("a\0b\xff", 4));
   EXPECT_EQ(detail::read_file(path), (std::vector<unsigned char>{'a', 0, 'b', 0xff}));

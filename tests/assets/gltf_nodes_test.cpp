@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "common/stability.h"
 #include "gltf_builder.h"
 #include "penumbra/assets/gltf.h"
 #include "test_support.h"
@@ -47,6 +48,10 @@ TEST(GltfNodes, NodeHierarchyComposesTrsAndMatrices) {
   expect_near(apply(m.instances[1].world, {0, 0, 0}), apply(g, {1, 2, 13}));
 }
 TEST(GltfNodes, InvalidNodeGraphs) {
+  PENUMBRA_STABILITY(
+      "node graphs with a cycle, a node of two parents, children or meshes out of range, a bad "
+      "matrix, a zero quaternion",
+      "LoadError naming the node and the reason", "-");
   GltfDoc cycle = GltfDoc::triangle();
   cycle.j["nodes"] = {{{"children", {1}}}, {{"children", {2}}, {"mesh", 0}}, {{"children", {1}}}};
   expect_error(cycle, "node 1 is a child of both node 0 and node 2");

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 
+#include "common/stability.h"
 #include "gltf_builder.h"
 #include "test_support.h"
 
@@ -57,6 +58,8 @@ TEST(Gltf, BaseColorStripsFansAndSkippedModes) {
 }
 
 TEST(Gltf, BadNormalsAreDropped) {
+  PENUMBRA_STABILITY("zero or non-finite normals in a glTF mesh",
+                     "the normals dropped with a warning (recomputed)", "-");
   GltfDoc d = GltfDoc::triangle();
   const std::vector<float> normals = {0, 0, 2, 0, 0, 0, 0, 0, 1};
   d.j["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] =
@@ -72,6 +75,8 @@ TEST(Gltf, BadNormalsAreDropped) {
 }
 
 TEST(Gltf, InvalidIndicesPositionsAndAccessors) {
+  PENUMBRA_STABILITY("indices out of range, NaN positions, accessors past their buffers",
+                     "LoadError", "-");
   expect_error(GltfDoc::triangle({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 3}),
                "index 2 = 3 out of range (3 vertices)");
   expect_error(GltfDoc::triangle({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0}),
@@ -118,6 +123,7 @@ TEST(Gltf, InvalidIndicesPositionsAndAccessors) {
 }
 
 TEST(Gltf, GarbageTruncatedAndMissingFiles) {
+  PENUMBRA_STABILITY("garbage, truncated and missing glTF files", "LoadError naming the file", "-");
   test::TempDir dir;
   expect_load_error([&] { load_gltf(dir.file("none.glb")); }, "none.glb", "no such file");
   expect_load_error([&] { load_gltf(dir.write("empty.gltf", "")); }, "empty.gltf", "empty file");
@@ -144,6 +150,8 @@ TEST(Gltf, GarbageTruncatedAndMissingFiles) {
 
 // Debian's assimp-testmodels glTF 2.0 corpus: every file loads or is rejected with a message.
 TEST(Gltf, AssimpCorpusLoadsOrFailsCleanly) {
+  PENUMBRA_STABILITY("assimp's glTF 2.0 corpus, broken files included",
+                     "every file loads or is rejected with a message", "-");
   const std::map<std::string, std::string> must_fail = {
       {"IndexOutOfRange/IndexOutOfRange.gltf", "out of range"},
       {"IndexOutOfRange/AllIndicesOutOfRange.gltf", "out of range"},

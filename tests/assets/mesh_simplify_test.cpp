@@ -7,6 +7,7 @@
 #include <string>
 #include <tuple>
 
+#include "common/stability.h"
 #include "test_meshes.h"
 
 namespace penumbra::assets {
@@ -65,6 +66,8 @@ TEST(MeshSimplify, ErrorBoundStopsTheCollapses) {
 }
 
 TEST(MeshSimplify, BadInputIsNamed) {
+  PENUMBRA_STABILITY("an empty mesh; ratio 0 or above 1", "std::invalid_argument naming the reason",
+                     "-");
   data::MeshData empty;
   empty.name = "nothing";
   try {

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stability.h"
 #include "probe_cloud_sample.h"
 #include "test_support.h"
 
@@ -223,6 +224,8 @@ TEST(ProbeCloudFile, AtomicWriteLeavesNoTemporaryFile) {
 }
 
 TEST(ProbeCloudFile, WriterRejectsWhatTheReaderWould) {
+  PENUMBRA_STABILITY("a cloud the reader would reject, given to the writer",
+                     "std::invalid_argument naming the reason; no file written", "-");
   const auto bad = [](auto edit, const std::string& reason) {
     data::ProbeCloud c = test::single_tetrahedron_cloud();
     edit(c);
@@ -252,6 +255,8 @@ TEST(ProbeCloudFile, WriterRejectsWhatTheReaderWould) {
 }
 
 TEST(ProbeCloudFile, EveryCorruptionIsRejectedNamingTheFile) {
+  PENUMBRA_STABILITY("a probe cloud file with any bit flipped, truncated, a foreign magic",
+                     "rejected naming the file (checksum, size, magic)", "-");
   test::TempDir dir;
   const std::vector<unsigned char> good = encode_probe_cloud_file(test::single_tetrahedron_cloud());
   int n = 0;

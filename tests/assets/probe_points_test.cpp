@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "test_support.h"
 
 namespace penumbra::assets {
@@ -39,6 +40,7 @@ TEST(ProbePoints, ParsesShAfterThePosition) {
 }
 
 TEST(ProbePoints, RejectsMalformedLinesNamingTheLine) {
+  PENUMBRA_STABILITY("malformed probe point lines", "std::invalid_argument naming the line", "-");
   const auto rejects = [](const std::string& text, const std::string& reason) {
     expect_load_error([&] { parse_probe_points(text, 3, "points.txt"); }, "points.txt", reason);
   };
@@ -59,6 +61,7 @@ TEST(ProbePoints, RejectsMalformedLinesNamingTheLine) {
 }
 
 TEST(ProbePoints, LoadsFilesAndNamesThemOnError) {
+  PENUMBRA_STABILITY("a missing probe point file", "an error naming the file", "-");
   test::TempDir dir;
   const auto path = dir.write("cloud.txt", "0 0 0\n1 0 0\n");
   EXPECT_EQ(load_probe_points(path, 3).positions.size(), 2u);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stability.h"
 #include "test_support.h"
 
 namespace penumbra::assets {
@@ -147,6 +148,8 @@ TEST(SphereFile, AtomicWriteLeavesNoTemporaryFile) {
 }
 
 TEST(SphereFile, WriterRejectsWhatTheReaderWould) {
+  PENUMBRA_STABILITY("a sphere set the reader would reject (a parent cycle, NaN)",
+                     "std::invalid_argument; no file written", "-");
   test::TempDir dir;
   const auto bad = [&](auto edit) {
     SphereSetFile s = sample_set();
@@ -168,6 +171,8 @@ TEST(SphereFile, WriterRejectsWhatTheReaderWould) {
 }
 
 TEST(SphereFile, EveryCorruptionIsRejectedNamingTheFile) {
+  PENUMBRA_STABILITY("a sphere file with any bit flipped or truncated", "rejected naming the file",
+                     "-");
   test::TempDir dir;
   const std::vector<unsigned char> good = encode_sphere_file(sample_set());
   int n = 0;

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/stability.h"
 #include "penumbra/assets/gltf.h"
 #include "test_meshes.h"
 #include "test_support.h"
@@ -219,6 +220,8 @@ TEST(SphereFit, MeshesWithoutVolumeAreRefusedByName) {
 }
 
 TEST(SphereFit, DegenerateCountsAreRefused) {
+  PENUMBRA_STABILITY("a sphere count of 0, -3 or above the maximum",
+                     "an error naming the model and the count", "-");
   const data::MeshData m = box(1, 1, 1);
   SphereFitOptions o;
   o.surface_samples = 10;

@@ -4,9 +4,9 @@
     python3 tests/bench/check_bench_report.py scripts/bench_report.py tests/bench/report_fixture OUT.html
 
 The fixture (tests/bench/report_fixture/) holds two groups' summaries (terrain with a chart and
-Google Benchmark's context, environment without), and a play record; every other group is
-missing. Checked: html/head/body present and every element closed (tables included), each
-fixture group's heading and a known value from its JSON, the chart's markup embedded inline,
+Google Benchmark's context, environment without), a play record and a stability table (one row
+without a record); every other group is missing. Checked: html/head/body present and every element closed (tables included), each
+fixture group's heading and a known value from its JSON (the stability rows too), the chart's markup embedded inline,
 text from the JSON escaped, the missing groups shown as "not run", and no http(s):// URL, script
 or external resource anywhere in the file.
 """
@@ -93,6 +93,9 @@ def main(argv):
                                   "1.25 / 2.50 / 3.75", "1.50 / 2.50 / 3.50 at the end"]),
         "g-environment": ("environment", ["3.88 ms", "62.0x", "2026-01-02T03:10:00+0000"]),
         "g-play": ("play", ["48.5 fps", "Fixture CPU Model 9000", "MISS"]),
+        "stability": ("Stability", ["3 failure-mode", "a thin spike between the sampled azimuths",
+                                    "rel. RMS, 8 azimuths = 0.0312", "more azimuths",
+                                    "no record: run the test"]),
     }
     for sid, (heading, values) in expect.items():
         if heading not in r.headings.get(sid, ""):
@@ -111,9 +114,11 @@ def main(argv):
     if "Fixture chart: time against error" not in r.text.get("g-terrain", ""):
         fails.append("the chart's title is not in the terrain section")
 
-    # Escaping: the note 'escaped: a <b> & "c"' from terrain_summary.json.
+    # Escaping: the note 'escaped: a <b> & "c"' from terrain_summary.json, and a stability row.
     if "escaped: a &lt;b&gt; &amp; &quot;c&quot;" not in raw or "a <b> &" in raw:
         fails.append("the note with <, & and \" is not escaped")
+    if "a cloud of &lt;0&gt; probes" not in raw:
+        fails.append("the stability table's text is not escaped")
 
     # Missing groups are listed, not skipped.
     for g in ("ecs", "blockers", "probes", "spherical_lights", "probe_bake"):

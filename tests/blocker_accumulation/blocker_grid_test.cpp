@@ -7,6 +7,7 @@
 #include <set>
 
 #include <glm/geometric.hpp>
+#include "common/stability.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -57,6 +58,7 @@ TEST(BlockerGrid, HugeSpheresAndNoCutOffGoEverywhere) {
 }
 
 TEST(BlockerGrid, EmptyAndZeroRadiusSetsHaveNoCandidates) {
+  PENUMBRA_STABILITY("no blockers; blockers of radius 0", "no candidates", "-");
   BlockerGrid g;
   g.build({}, 0.05f);
   EXPECT_TRUE(all_candidates(g, {0, 0, 0}).empty());

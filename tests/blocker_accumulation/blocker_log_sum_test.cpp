@@ -7,6 +7,7 @@
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include "common/stability.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -89,6 +90,8 @@ TEST(BlockerLogSum, MatchesWithRatioAttenuationAndNoSizeCut) {
 }
 
 TEST(BlockerLogSum, NothingAddedGivesZeroSumAndNoAxes) {
+  PENUMBRA_STABILITY("blockers below the plane or of scale 0 only",
+                     "counted as views, nothing added: zero log sum", "-");
   BlockerLogSum<4> lanes(glm::vec3(0), glm::vec3(0, 0, 1), {}, std::log(0.2f));
   lanes.add(glm::vec3(0, 0, -5), 1, 1);  // below the plane
   lanes.add(glm::vec3(0, 0, 5), 1, 0);   // scale 0

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/stability.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/rotation.h"
 
@@ -34,6 +35,7 @@ float rel_l2(const sh::Coeffs<N>& a, const sh::Coeffs<N>& b) {
 }
 
 TEST(ClippedLogCap, NoCapHasZeroLog) {
+  PENUMBRA_STABILITY("a cap of angle 0 (no blocker)", "zero log visibility in every band", "-");
   const sh::Zonal<N> z = ClippedLogCap<N>::compute(0.0f, 0.02f);
   for (int l = 0; l < N; ++l) EXPECT_NEAR(z[l], 0.0f, 1e-5f) << "band " << l;
 }
@@ -78,6 +80,7 @@ TEST(ClippedLogCap, RotatedLikeTheCap) {
 }
 
 TEST(ClippedLogCap, RejectsBadSettings) {
+  PENUMBRA_STABILITY("epsilon 0, 1 or NaN; a table of 1 entry", "std::invalid_argument", "-");
   EXPECT_THROW(ClippedLogCap<N>(0.0f), std::invalid_argument);
   EXPECT_THROW(ClippedLogCap<N>(1.0f), std::invalid_argument);
   EXPECT_THROW(ClippedLogCap<N>(std::nanf("")), std::invalid_argument);

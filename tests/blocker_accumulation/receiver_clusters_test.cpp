@@ -15,6 +15,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/sh/exp_log.h"
 
 namespace penumbra::blocker_accumulation {
@@ -133,6 +134,9 @@ BlockerSettings all_pairs_settings() {
 }
 
 TEST(ReceiverClusters, RejectsBadInput) {
+  PENUMBRA_STABILITY(
+      "max_receivers 0; no receivers; normals of another count; a NaN receiver or infinite normal",
+      "std::invalid_argument naming the receiver", "-");
   EXPECT_THROW(ReceiverClusters<N>(ReceiverClusterSettings{.max_receivers = 0}),
                std::invalid_argument);
   ReceiverClusters<N> rc;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include "common/stability.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
@@ -38,6 +39,8 @@ TEST(PickReceivers, NewOnesFirstThenRoundRobinWithinTheBudget) {
 }
 
 TEST(PickReceivers, ZeroBudgetIsEveryoneAndATinyBudgetStillShadesOne) {
+  PENUMBRA_STABILITY("a receiver budget of 0, of 1 point; no receivers",
+                     "0: every receiver; 1: still one a frame; none: nothing", "-");
   const std::vector<Entity> all = {{0, 500, true}, {1, 500, true}};
   std::uint64_t cursor = 1;
   EXPECT_EQ(ids(pick_receivers(all, 0, cursor, is_new, points)), (std::vector<int>{1, 0}));

@@ -7,6 +7,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/rotation.h"
@@ -58,6 +59,9 @@ TEST(SphereBlocker, WhollyBelowThePlaneIsCulledAndWhollyAboveIsUnchanged) {
 }
 
 TEST(SphereBlocker, DegenerateSpheresAreFinite) {
+  PENUMBRA_STABILITY(
+      "a sphere of radius 0 or < 0; a sphere centred on the receiver",
+      "weight 0; centred: replaced by the upper half's sphere (weight 0.5); all finite", "-");
   EXPECT_EQ(view_blocker({0, 0, 0}, kUp, {0, 0, 3}, 0.0f, {}).weight, 0.0f);  // zero radius
   EXPECT_EQ(view_blocker({0, 0, 0}, kUp, {0, 0, 3}, -1.0f, {}).weight, 0.0f);
   // Centred on the receiver: replaced by the upper half's sphere, touching the receiver.

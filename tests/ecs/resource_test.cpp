@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "penumbra/ecs/world.h"
 
 namespace penumbra::ecs {
@@ -25,6 +26,7 @@ TEST(Resource, EmplaceGetReplaceRemove) {
 }
 
 TEST(Resource, MissingResourceErrorNamesTheType) {
+  PENUMBRA_STABILITY("a missing resource", "an error naming the type", "-");
   World w;
   try {
     w.resource<Missing>();

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 
+#include "common/stability.h"
 #include "synthetic_maps.h"
 
 namespace env = penumbra::environment;
@@ -46,6 +47,8 @@ TEST(DirectionKMeans, DeterministicAndClampsK) {
 }
 
 TEST(DirectionKMeans, BadInputThrows) {
+  PENUMBRA_STABILITY("no directions; weights of another count; k 0 or larger than the points",
+                     "std::invalid_argument", "-");
   const std::vector<glm::vec3> p(2, glm::vec3(1, 0, 0));
   EXPECT_THROW(env::kmeans({}, {}, 1, 0, 10), std::invalid_argument);
   EXPECT_THROW(env::kmeans(p, {1}, 1, 0, 10), std::invalid_argument);

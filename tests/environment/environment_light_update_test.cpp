@@ -7,6 +7,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "common/stability.h"
 #include "penumbra/sh/projection.h"
 #include "synthetic_maps.h"
 
@@ -54,6 +55,8 @@ TEST(EnvironmentLightUpdate, NullMapClears) {
 }
 
 TEST(EnvironmentLightUpdate, BadMapThrowsAndLeavesTheResource) {
+  PENUMBRA_STABILITY("a bad map given to the update",
+                     "std::invalid_argument; the resource keeps its sources", "-");
   auto m = t::flat_map(64, 32, glm::vec3(1), "inf.exr");
   m.rgb[5] = std::numeric_limits<float>::infinity();
   penumbra::components::EnvironmentLight light;

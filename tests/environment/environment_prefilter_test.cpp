@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "synthetic_maps.h"
 
 namespace env = penumbra::environment;
@@ -49,6 +50,8 @@ TEST(EnvironmentPrefilter, WrapsAroundTheSeamAndKeepsTheSum) {
 }
 
 TEST(EnvironmentPrefilter, RadiusZeroIsIdentityAndBadRadiusThrows) {
+  PENUMBRA_STABILITY("radius 0; negative or too large radius; wrong size",
+                     "0: identity; others std::invalid_argument naming the radius", "-");
   std::vector<float> img(16 * 8);
   std::iota(img.begin(), img.end(), 0.0f);
   EXPECT_EQ(env::gaussian_prefilter(img, 16, 8, 0), img);
@@ -62,6 +65,8 @@ TEST(EnvironmentPrefilter, RadiusZeroIsIdentityAndBadRadiusThrows) {
 
 // Policy: NaN, infinite and negative texels are rejected, naming the map and the texel.
 TEST(EnvironmentPrefilter, RejectsNanInfNegativeNamingTheInput) {
+  PENUMBRA_STABILITY("NaN, infinite and negative texels",
+                     "rejected, naming the map, the texel and the channel", "-");
   auto m = t::flat_map(8, 4, glm::vec3(1), "nan_map.exr");
   m.rgb[3 * (2 * 8 + 3) + 1] = std::numeric_limits<float>::quiet_NaN();
   std::string e = error_of([&] { env::check_environment_map(m); });
@@ -78,6 +83,8 @@ TEST(EnvironmentPrefilter, RejectsNanInfNegativeNamingTheInput) {
 }
 
 TEST(EnvironmentPrefilter, RejectsBadSizes) {
+  PENUMBRA_STABILITY("a map whose float count does not match its size",
+                     "rejected naming the map and the count", "-");
   auto m = t::flat_map(8, 4, glm::vec3(1), "small.exr");
   m.rgb.pop_back();
   EXPECT_NE(error_of([&] { env::check_environment_map(m); }).find("small.exr: 95 floats"),

@@ -18,6 +18,7 @@
 #include <string>
 #include <utility>
 
+#include "common/stability.h"
 #include "synthetic_maps.h"
 
 namespace env = penumbra::environment;
@@ -169,6 +170,8 @@ TEST(LightSourceDetection, NoBrightRegionGivesNoSource) {
 }
 
 TEST(LightSourceDetection, NanAndInfiniteTexelsRejectedNamingTheMap) {
+  PENUMBRA_STABILITY("NaN and infinite texels",
+                     "std::invalid_argument naming the map, texel and channel", "-");
   auto m = t::flat_map(kW, kH, kSky, "bad_sky.exr");
   m.rgb[3 * (10 * kW + 20)] = std::numeric_limits<float>::quiet_NaN();
   try {
@@ -184,6 +187,8 @@ TEST(LightSourceDetection, NanAndInfiniteTexelsRejectedNamingTheMap) {
 }
 
 TEST(LightSourceDetection, BadSettingsNameTheField) {
+  PENUMBRA_STABILITY("source_count 0, halo percentile above the light percentile, ...",
+                     "std::invalid_argument naming the field", "-");
   const auto m = t::flat_map(64, 32, kSky);
   env::DetectionSettings s;
   s.source_count = env::kMaxSources + 1;
@@ -203,6 +208,8 @@ TEST(LightSourceDetection, BadSettingsNameTheField) {
 
 // Maps smaller than the prefilter: the radius shrinks to fit, no error, no crash.
 TEST(LightSourceDetection, TinyMapsDoNotFail) {
+  PENUMBRA_STABILITY("maps smaller than the prefilter (1x1 up)",
+                     "the radius shrinks to fit: no error, no crash", "-");
   for (const auto& [w, h] : {std::pair{1, 1}, std::pair{2, 1}, std::pair{3, 2}, std::pair{8, 4}}) {
     auto m = t::flat_map(w, h, kSky);
     for (int c = 0; c < 3; ++c) m.rgb[static_cast<std::size_t>(c)] = 1e4f;

@@ -13,6 +13,7 @@
 
 #include <unistd.h>
 
+#include "common/stability.h"
 #include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_cloud/probe_cloud_build.h"
@@ -89,6 +90,8 @@ TEST(ProbeSkyBake, SecondRunReadsTheCacheAndGetsTheSameSh) {
 }
 
 TEST(ProbeSkyBake, CorruptOrForeignFilesAreBakedAgainAndOtherInputsGetAnotherFolder) {
+  PENUMBRA_STABILITY("a truncated or foreign cached sky step",
+                     "baked again with a note naming the file", "-");
   const auto f = make();
   const auto dir = temp_dir("corrupt");
   const ProbeSkySteps first = bake_probe_sky_steps(f->in, f->cloud, dir);
@@ -145,6 +148,8 @@ TEST(ProbeSkyBake, BounceLightsTheUndersideAndTheSkyTurns) {
 }
 
 TEST(ProbeSkyBake, BadInputsAreRejected) {
+  PENUMBRA_STABILITY("no sky map, 0 sky steps, a step index out of range", "std::invalid_argument",
+                     "-");
   const auto f = make();
   ProbeSkyBakeInputs in = f->in;
   in.map = nullptr;

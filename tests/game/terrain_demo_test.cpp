@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "penumbra/assets/load_error.h"
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/environment_light.h"
@@ -178,6 +179,7 @@ TEST(TerrainDemo, BouldersRollShadeAndShadowTheTerrain) {
 }
 
 TEST(TerrainDemo, MissingDataNamesTheFile) {
+  PENUMBRA_STABILITY("a missing data folder", "an error naming the file", "-");
   ecs::World world;
   TerrainDemoConfig config;
   config.data_dir = "/nonexistent/penumbra-data";

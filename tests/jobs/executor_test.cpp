@@ -9,6 +9,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/partitioner.h>
 
+#include "common/stability.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/motion.h"
 
@@ -195,6 +196,8 @@ TEST_P(ExecutorTest, IndependentSystemsOverlapWhenThreadsAllow) {
 // In builds with assertions a system that touches what it did not declare stops the frame with
 // AccessViolation naming it (penumbra/ecs/access_check.h).
 TEST_P(ExecutorTest, UndeclaredAccessFailsTheFrameLoudly) {
+  PENUMBRA_STABILITY("a system touching what it did not declare",
+                     "AccessViolation naming the system (builds with assertions)", "-");
   if constexpr (!ecs::kAccessChecks) GTEST_SKIP() << "access checks are compiled out (NDEBUG)";
   ecs::World w;
   w.emplace_resource<Counter>();

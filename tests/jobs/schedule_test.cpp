@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include "common/stability.h"
 
 // Named (not anonymous) namespace: the DOT snapshot spells type names the same on every compiler.
 namespace penumbra::jobs::schedule_test {
@@ -110,6 +111,8 @@ TEST(Schedule, ExplicitConstraintsCanReorderRegistration) {
 }
 
 TEST(Schedule, RejectsCyclesUnknownNamesAndDuplicates) {
+  PENUMBRA_STABILITY("a cycle, an unknown name in after()/before(), a duplicate name",
+                     "std::invalid_argument at build()", "-");
   {
     Schedule s;
     s.add_task("a", noop).after("b");

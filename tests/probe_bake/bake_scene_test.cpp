@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/stability.h"
 #include "penumbra/systems/probe_bake/probe_placement.h"
 #include "penumbra/systems/probe_bake/probe_validity.h"
 
@@ -51,6 +52,10 @@ TEST(BakeScene, CommittedScenesLoad) {
 }
 
 TEST(BakeScene, ErrorsNameFileAndField) {
+  PENUMBRA_STABILITY(
+      "scene files with invalid JSON (NaN, 1e999), non-finite numbers, missing or unknown fields, "
+      "wrong types, bad radius or albedo",
+      "an error naming the file and the field", "-");
   const std::string probes = R"("probes": {"min": [0,0,0], "max": [1,1,1], "spacing": 1})";
   struct Case {
     std::string json, expect;

@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/sh/basis.h"
@@ -45,6 +46,8 @@ BakeSettings fast() {
 }
 
 TEST(ProbeBake, EmptySceneIsBlackAndValid) {
+  PENUMBRA_STABILITY("an empty scene (no geometry, no light)",
+                     "27 probes, all SH exactly 0, a valid cloud", "-");
   const BakeScene s = parse(R"({"probes": {"min": [0,0,0], "max": [2,2,2], "spacing": 1}})");
   BakeReport r;
   const data::ProbeCloud c = bake_probe_cloud(s, fast(), &r);
@@ -56,6 +59,8 @@ TEST(ProbeBake, EmptySceneIsBlackAndValid) {
 }
 
 TEST(ProbeBake, NoLightIsBlack) {
+  PENUMBRA_STABILITY("the room without its lamp", "all SH exactly 0, valid, none black by validity",
+                     "-");
   // The room without its lamp: geometry, albedo, nothing emits.
   BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
   s.desc.lights.clear();
@@ -70,6 +75,8 @@ TEST(ProbeBake, NoLightIsBlack) {
 // (max offset 0.5 spacing), no valid neighbour: the documented fallback is black probes in a
 // valid cloud.
 TEST(ProbeBake, AllProbesInvalidFallBackToBlack) {
+  PENUMBRA_STABILITY("a probe volume wholly inside a 100 m box (all probes invalid)",
+                     "black probes (fallback), back-face share 1.0 each, a valid cloud", "-");
   const BakeScene s = parse(R"({
     "geometry": [{"kind": "box", "center": [0,0,0], "size": [100,100,100], "albedo": [0.5,0.5,0.5]}],
     "lights": [{"center": [0,0,80], "radius": 1, "radiance": [10,10,10]}],
@@ -87,6 +94,9 @@ TEST(ProbeBake, AllProbesInvalidFallBackToBlack) {
 // and whose x = 0 plane lies on a wall's face. Finite SH, a valid cloud, and no probe is left
 // with a capture from inside the geometry.
 TEST(ProbeBake, ProbesExactlyOnSurfaces) {
+  PENUMBRA_STABILITY("probes exactly on surfaces (a floor's top face, a wall's face)",
+                     "finite SH, a valid cloud, kept captures have back-face share <= 0.25",
+                     "validity offset");
   const BakeScene s = parse(R"({
     "geometry": [{"kind": "box", "center": [0,0,-0.5], "size": [20,20,1], "albedo": [0.5,0.5,0.5]},
                  {"kind": "box", "center": [-0.5,0,2], "size": [1,20,4], "albedo": [0.5,0.5,0.5]}],
@@ -105,6 +115,7 @@ TEST(ProbeBake, ProbesExactlyOnSurfaces) {
 }
 
 TEST(ProbeBake, NanInSceneRejectedNamingTheFile) {
+  PENUMBRA_STABILITY("NaN in the scene file", "rejected, the message names the file", "-");
   try {
     parse_bake_scene(R"({"geometry": [{"kind": "sphere", "center": [0, NaN, 0], "radius": 1}],
                          "probes": {"min": [0,0,0], "max": [1,1,1], "spacing": 1}})",
@@ -165,6 +176,7 @@ TEST(ProbeBake, SameBytesForAnyThreadCountAndChunk) {
 }
 
 TEST(ProbeBake, Bands) {
+  PENUMBRA_STABILITY("2, 4 and 5 SH bands", "clouds of 2 and 4 bands; 5 rejected", "-");
   const BakeScene s = load_bake_scene(kRoot / "scenes" / "room.json", kData);
   for (int bands : {2, 4}) {
     BakeSettings b = fast();

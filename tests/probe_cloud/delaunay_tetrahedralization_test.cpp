@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/systems/probe_cloud/exact_predicates.h"
 
 namespace penumbra::probe_cloud {
@@ -54,6 +55,7 @@ TEST(DelaunayTetrahedralization, SingleTetrahedron) {
 }
 
 TEST(DelaunayTetrahedralization, TooFewOrFlatGivesNothing) {
+  PENUMBRA_STABILITY("0-3 points, coplanar or collinear points", "no tetrahedra, no error", "-");
   EXPECT_TRUE(delaunay_tetrahedralize(std::vector<V>{}).vertices.empty());
   EXPECT_TRUE(
       delaunay_tetrahedralize(std::vector<V>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}).vertices.empty());
@@ -120,6 +122,9 @@ TEST(DelaunayTetrahedralization, HullWithCoplanarFacesAndPointsOnThem) {
 }
 
 TEST(DelaunayTetrahedralization, DegenerateLatticeSubsets) {
+  PENUMBRA_STABILITY("random subsets of a 4x4x4 lattice (coplanar, cospherical, collinear)",
+                     "valid, no degenerate hull triangle, volumes add up to the hull's",
+                     "exact predicates");
   // Random subsets of a 4x4x4 lattice: coplanar hull faces, cospherical and collinear sets
   // everywhere, hull points inserted after interior ones. Each must be valid and cover the
   // lattice subset's hull (the tetrahedra's volumes add up to the hull's).

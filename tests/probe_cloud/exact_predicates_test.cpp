@@ -4,6 +4,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include "common/stability.h"
 
 namespace penumbra::probe_cloud {
 namespace {
@@ -61,6 +62,8 @@ TEST(ExactPredicates, SignConventions) {
 }
 
 TEST(ExactPredicates, NearDegenerateAtLargeOffsets) {
+  PENUMBRA_STABILITY("near-coplanar / near-cospherical points at offsets up to 1e6",
+                     "exact signs, exact zeros", "adaptive exact arithmetic ([Shewchuk97])");
   for (double offset : {0.0, 1.0, 1e6, 1e6 + 0.125, 3e7}) {
     const V o(offset, -offset, offset * 0.5);
     for (int e = 20; e <= 60; e += 8) {

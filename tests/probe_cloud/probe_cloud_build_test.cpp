@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/stability.h"
 #include "penumbra/systems/probe_cloud/probe_cloud_validation.h"
 
 namespace penumbra::probe_cloud {
@@ -111,6 +112,7 @@ TEST(ProbeCloudBuild, FourCoplanarPoints) {
 }
 
 TEST(ProbeCloudBuild, ZeroToThreeProbes) {
+  PENUMBRA_STABILITY("0 to 3 probes", "a valid cloud with no cells", "-");
   const std::vector<glm::vec3> all{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   for (std::size_t n = 0; n <= 3; ++n) {
     const std::vector<float> sh(n * 12, 0.5f);
@@ -146,6 +148,8 @@ TEST(ProbeCloudBuild, KilometreSceneAtOneMetreAndFarProbes) {
 }
 
 TEST(ProbeCloudBuild, RejectsNonFinitePositionsNamingTheIndex) {
+  PENUMBRA_STABILITY("a NaN or infinite probe position; SH of the wrong size",
+                     "std::invalid_argument naming the probe index", "-");
   std::vector<glm::vec3> p = random_points(20, 2);
   p[13].y = std::numeric_limits<float>::quiet_NaN();
   try {

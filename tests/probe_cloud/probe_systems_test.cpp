@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/frame_work.h"
+#include "common/stability.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/probe_anchor.h"
 #include "penumbra/components/probe_cloud_resource.h"
@@ -133,6 +134,8 @@ TEST(ProbeSystems, ReportsTheWorkItSkipsPerFrame) {
 }
 
 TEST(ProbeSystems, ReplacingTheCloudInvalidatesEveryCachedCell) {
+  PENUMBRA_STABILITY("the cloud replaced by one with the same cell count",
+                     "every cached cell invalidated (generation): full locate, no stale cell", "-");
   const auto points = test::random_points(300, 10.0f, 35);
   Scene s(make_cloud(points, test::random_sh(points.size(), 3, 36)));
   const auto positions = test::random_points(500, 10.0f, 37);
@@ -160,6 +163,8 @@ TEST(ProbeSystems, ReplacingTheCloudInvalidatesEveryCachedCell) {
 }
 
 TEST(ProbeSystems, NonFiniteEntitiesAreSkippedAndNamed) {
+  PENUMBRA_STABILITY("entities with non-finite sample points",
+                     "skipped and named (20, then a count); their lighting and cell kept", "-");
   const auto points = test::random_points(100, 10.0f, 41);
   Scene s(make_cloud(points, test::random_sh(points.size(), 3, 42)));
   s.spawn({{5, 5, 5}, {4, 4, 4}, {6, 5, 4}});
@@ -232,6 +237,7 @@ TEST(ProbeSystems, SmoothingStartsFromTheFirstSample) {
 }
 
 TEST(ProbeSystems, NoCloudWritesNothingAndAnEmptyCloudGivesZero) {
+  PENUMBRA_STABILITY("no cloud; an empty cloud", "nothing written; zero lighting", "-");
   Scene s(nullptr);
   s.spawn({{1, 2, 3}});
   s.run();
@@ -246,6 +252,9 @@ TEST(ProbeSystems, NoCloudWritesNothingAndAnEmptyCloudGivesZero) {
 }
 
 TEST(ProbeSystems, AnInconsistentCloudIsRejectedWithItsReason) {
+  PENUMBRA_STABILITY(
+      "an inconsistent cloud (SH of the wrong size)",
+      "rejected with its reason, lighting invalid; a good cloud afterwards is taken up", "-");
   const auto points = test::random_points(50, 10.0f, 52);
   auto bad = std::make_shared<data::ProbeCloud>(*make_cloud(points, {}));
   bad->sh.resize(7);

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "probe_walk_test_util.h"
 
 namespace penumbra::probe_cloud {
@@ -178,6 +179,8 @@ TEST(ProbeTetWalk, AffineShFieldIsReproducedInsideTheHull) {
 // An entity walking out of the hull and far away: an outer cell, convex weights, and a value
 // between the probes' smallest and largest (never black, never overbright).
 TEST(ProbeTetWalk, LeavingTheHullEndsInAnOuterCellWithBoundedValues) {
+  PENUMBRA_STABILITY("an entity walking out of the hull and far away",
+                     "an outer cell, convex weights: never black, never overbright", "-");
   const auto points = test::random_points(200, 10.0f, 13);
   const auto sh = test::random_sh(points.size(), 3, 14);
   const ProbeTetWalk walk(make_cloud(points, sh));
@@ -227,6 +230,8 @@ TEST(ProbeTetWalk, TeleportRunsTheFallbackAndFindsTheRightCell) {
 }
 
 TEST(ProbeTetWalk, InvalidStartCellsFallBack) {
+  PENUMBRA_STABILITY("invalid start cells (negative, past the end)",
+                     "the walk falls back to a located start: the same result", "-");
   const auto points = test::random_points(300, 10.0f, 17);
   const ProbeTetWalk walk(make_cloud(points, test::random_sh(points.size(), 3, 18)));
   const auto other_points = test::random_points(3000, 50.0f, 19);
@@ -296,6 +301,8 @@ TEST(ProbeTetWalk, CloudsWithoutCellsUseTheNearestProbe) {
 }
 
 TEST(ProbeTetWalk, NonFinitePointsAndBadCloudsAreRejected) {
+  PENUMBRA_STABILITY("a non-finite query point; a broken cloud; no cloud",
+                     "std::invalid_argument naming the cell or the point", "-");
   const auto points = test::random_points(50, 10.0f, 22);
   const ProbeTetWalk walk(make_cloud(points, {}));
   const float nan = std::numeric_limits<float>::quiet_NaN();

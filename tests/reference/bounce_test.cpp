@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "common/stability.h"
 #include "penumbra/reference/estimators.h"
 #include "reference_test_util.h"
 
@@ -109,6 +110,8 @@ TEST(IndirectIrradiance, LambertianPlaneUnderUniformSky) {
 // Black albedo (the default) gives exactly zero and casts no ray; an occluder (black) between
 // receiver and reflector removes the bounce.
 TEST(IndirectIrradiance, BlackAlbedoAndBlockedReflectorGiveZero) {
+  PENUMBRA_STABILITY("black albedo; an occluder between receiver and reflector; nothing emits",
+                     "exactly zero, no rays wasted", "-");
   SceneDesc d;
   d.environment = EnvironmentLight{test::constant_map(16, 8, glm::vec3(1)), 0};
   d.lights = {{{0, 0, 5}, 1, {10, 10, 10}, "lamp"}};
@@ -283,6 +286,8 @@ TEST(IndirectIrradiance, DeterministicAcrossThreadCounts) {
 }
 
 TEST(IndirectIrradiance, BadInputThrows) {
+  PENUMBRA_STABILITY("non-finite receivers, bad sample counts",
+                     "std::invalid_argument naming the receiver", "-");
   SceneDesc d;
   d.environment = EnvironmentLight{test::constant_map(8, 4, glm::vec3(1)), 0};
   d.height_fields.push_back(plane(5, glm::vec3(0.5f)));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/stability.h"
 #include "penumbra/reference/sampling.h"
 #include "penumbra/sh/projection.h"
 #include "reference_test_util.h"
@@ -42,6 +43,9 @@ void expect_throws_naming(const data::EnvironmentMap& m, float rot, const std::s
 }
 
 TEST(EnvironmentSampler, RejectsBadMapsNamingThem) {
+  PENUMBRA_STABILITY(
+      "a map of size 0, too few floats, a negative or NaN texel; an infinite rotation",
+      "std::invalid_argument naming the map and the texel", "-");
   auto m = varied_map();
   m.width = 0;
   expect_throws_naming(m, 0, "size");

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/stability.h"
 #include "penumbra/reference/estimators.h"
 #include "reference_test_util.h"
 
@@ -136,6 +137,8 @@ TEST(EnvironmentIrradiance, SphereBlockerUnderConstantSkyIsCalibrated) {
 // Below a large flat blocker nothing of a sky above the horizon arrives, whatever the normal;
 // facing straight down under a constant sky, the blocker is not in the hemisphere at all.
 TEST(EnvironmentIrradiance, HalfSpaceBlockerGivesZeroFromBelow) {
+  PENUMBRA_STABILITY("a receiver below a large flat blocker", "exactly zero, whatever the normal",
+                     "-");
   // (The sky stops 22.5 degrees above the horizon, so the thin gap under the blocker's far
   // edge, 1e-4 rad, sees nothing.)
   SceneDesc d;
@@ -175,6 +178,7 @@ TEST(EnvironmentIrradiance, NoSelfShadowingOnAFlatField) {
 }
 
 TEST(EnvironmentIrradiance, InsideAnOccluderSphereIsZero) {
+  PENUMBRA_STABILITY("a receiver inside an occluding sphere", "exactly zero", "-");
   SceneDesc d;
   d.environment = EnvironmentLight{test::constant_map(32, 16, glm::vec3(1)), 0};
   d.spheres = {{{0, 0, 0}, 2, "shell"}};
@@ -275,6 +279,8 @@ TEST(EnvironmentIrradiance, MisBeatsCosineSamplingOnAPeakedMap) {
 }
 
 TEST(EnvironmentIrradiance, NoEnvironmentGivesZeroAndBadInputThrows) {
+  PENUMBRA_STABILITY("no environment; non-finite receivers; bad options",
+                     "zero; std::invalid_argument naming the receiver", "-");
   const Scene empty{SceneDesc{}};
   const Receiver r{{0, 0, 0}, {0, 0, 1}};
   EXPECT_EQ(environment_irradiance(empty, std::span(&r, 1))[0].mean, glm::vec3(0));

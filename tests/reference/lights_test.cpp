@@ -5,6 +5,7 @@
 #include <cstring>
 #include <vector>
 
+#include "common/stability.h"
 #include "penumbra/reference/estimators.h"
 #include "reference_test_util.h"
 
@@ -89,6 +90,7 @@ TEST(LightIrradiance, CoaxialBlockerLeavesAnAnnulus) {
 }
 
 TEST(LightIrradiance, HalfSpaceBlockerGivesZeroFromBelow) {
+  PENUMBRA_STABILITY("a light above a large blocker, the receiver below", "exactly zero", "-");
   SceneDesc d;
   d.lights = {{{2, 1, 10}, 3, {5, 5, 5}, ""}, {{-30, 0, 3}, 1, {5, 5, 5}, ""}};
   d.meshes.push_back({test::quad(1e4f, 1.0f), glm::mat4(1.0f)});
@@ -117,6 +119,7 @@ TEST(LightIrradiance, LightsDoNotOccludeAndContainingLightsAreCulled) {
 }
 
 TEST(LightIrradiance, LightBelowTheHorizonGivesZero) {
+  PENUMBRA_STABILITY("a light below the receiver's horizon; no lights", "zero, no rays", "-");
   SceneDesc d;
   d.lights = {{{0, 0, -5}, 2, {1, 1, 1}, ""}};
   const Scene s(d);

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include "common/stability.h"
 #include "penumbra/sh/basis.h"
 #include "reference_test_util.h"
 
@@ -155,6 +156,9 @@ TEST(RadianceSh, SphericalLightCone) {
 // A closed unit cube; a probe inside: every ray hits a back face, the estimate is 0 and the
 // escape direction points to the nearest face.
 TEST(RadianceSh, BackFacesInsideABox) {
+  PENUMBRA_STABILITY(
+      "a probe inside a closed box",
+      "every ray hits a back face: zero estimate, the escape direction to the nearest face", "-");
   data::MeshData cube;
   cube.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                     {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
@@ -211,6 +215,8 @@ TEST(RadianceSh, DeterministicAcrossThreadCounts) {
 }
 
 TEST(RadianceSh, RejectsBadInput) {
+  PENUMBRA_STABILITY("non-finite points, bad options; an empty scene",
+                     "std::invalid_argument naming the point; empty scene black, finite", "-");
   SceneDesc d;
   const Scene scene(d);
   const std::vector<glm::vec3> p = {{0, 0, 0}, {0, std::nanf(""), 0}};

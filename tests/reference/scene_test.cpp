@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "penumbra/reference/sampling.h"
 #include "reference_test_util.h"
 
@@ -28,6 +29,8 @@ void expect_invalid(const SceneDesc& d, const std::string& item, const std::stri
 }
 
 TEST(Scene, RejectsBadSpheresAndLightsNamingThem) {
+  PENUMBRA_STABILITY("spheres and lights with NaN or negative radius",
+                     "std::invalid_argument naming the item", "-");
   SceneDesc d;
   d.spheres = {{{0, 0, 0}, 1, "ok"}, {{0, 0, 5}, 0, "rock"}};
   expect_invalid(d, "spheres[1] \"rock\"", "radius 0 must be finite and > 0");
@@ -47,6 +50,8 @@ TEST(Scene, RejectsBadSpheresAndLightsNamingThem) {
 }
 
 TEST(Scene, RejectsBadHeightFieldsMeshesAndMaps) {
+  PENUMBRA_STABILITY("bad height fields, meshes and maps", "std::invalid_argument naming the item",
+                     "-");
   SceneDesc d;
   d.height_fields.push_back({test::flat_field(4, 4, 1, 0), {0, 0, 0}});
   d.height_fields[0].field.heights[5] = kNaN;
@@ -117,6 +122,8 @@ TEST(Scene, MeshTransformIsApplied) {
 }
 
 TEST(Scene, SpheresAreExactAndOccludeFromInside) {
+  PENUMBRA_STABILITY("rays from inside an occluding sphere; grazing rays",
+                     "every direction blocked from inside; grazing hits exact", "-");
   SceneDesc d;
   d.spheres = {{{0, 0, 10}, 2, "ball"}};
   d.lights = {{{0, 0, -10}, 3, {1, 1, 1}, "lamp"}};
@@ -163,6 +170,8 @@ TEST(Scene, OffsetRaysDoNotHitTheirOwnSurface) {
 }
 
 TEST(Scene, RejectsBadAlbedosNamingTheItem) {
+  PENUMBRA_STABILITY("albedos non-finite, negative or above 1",
+                     "std::invalid_argument naming the item", "-");
   SceneDesc d;
   d.spheres = {{{0, 0, 0}, 1, "ok", {1, 1, 1}}, {{0, 0, 5}, 1, "rock", {0.5f, 1.5f, 0}}};
   expect_invalid(d, "spheres[1] \"rock\"", "albedo (0.5, 1.5, 0) must be finite and in [0, 1]");
@@ -251,6 +260,7 @@ TEST(Scene, FirstHitGivesDistanceFacingNormalAndAlbedo) {
 }
 
 TEST(Scene, EmptySceneHitsNothingAndMoves) {
+  PENUMBRA_STABILITY("an empty scene", "hits nothing, extent 0", "-");
   Scene s(SceneDesc{});
   EXPECT_FALSE(s.occluded({0, 0, 0}, {0, 0, 1}, kInf));
   EXPECT_EQ(s.extent(), 0.0f);

@@ -4,6 +4,7 @@
 
 #include <cstdlib>
 #include <vector>
+#include "common/stability.h"
 
 namespace penumbra::render {
 namespace {
@@ -39,6 +40,8 @@ TEST(DeviceSelect, ForcingByTypeNameIndexAndSubstring) {
 }
 
 TEST(DeviceSelect, ForcedDeviceMissingOrUnsuitableIsAnErrorNotAFallback) {
+  PENUMBRA_STABILITY("a forced device that is missing or below Vulkan 1.3",
+                     "an error listing the devices, no fallback", "-");
   auto devices = machine();
   DeviceChoice c = select_device(devices, "radeon");
   EXPECT_EQ(c.index, -1);

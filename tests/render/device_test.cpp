@@ -6,6 +6,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/stability.h"
 #include "penumbra/render/resources.h"
 #include "render_test_util.h"
 
@@ -24,6 +25,7 @@ TEST(Device, CreatesTheLavapipeDeviceWithValidation) {
 }
 
 TEST(Device, EnvironmentForcesTheCpuDeviceAndRejectsAnUnknownOne) {
+  PENUMBRA_STABILITY("PENUMBRA_DEVICE naming an unknown device", "an error naming it", "-");
   Instance instance(test::validated_config());
   ::setenv("PENUMBRA_DEVICE", "lavapipe", 1);
   {

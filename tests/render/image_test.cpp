@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/stability.h"
 #include "render_test_util.h"
 
 namespace penumbra::render {
@@ -42,6 +43,8 @@ TEST(Image, PngRoundTripIsExactAndLeavesNoTemporaryFile) {
 }
 
 TEST(Image, ErrorsNameThePath) {
+  PENUMBRA_STABILITY("a missing PNG, an unwritable path, an image of no pixels",
+                     "an error naming the path", "-");
   EXPECT_THROW(read_png("/nonexistent/x.png"), std::runtime_error);
   try {
     write_png("/nonexistent/dir/x.png", gradient(2, 2));

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/stability.h"
 #include "penumbra/render/offscreen_target.h"
 #include "render_test_util.h"
 
@@ -53,6 +54,8 @@ TEST(Renderer, FramesWithValidationReportNoMessages) {
 }
 
 TEST(Renderer, ZeroSizedTargetSkipsFrames) {
+  PENUMBRA_STABILITY("a zero-sized (minimised) target",
+                     "frames skipped and counted, no validation message", "-");
   test::TestContext ctx;
   Renderer renderer(ctx.device);
   OffscreenTarget target(0, 0);
@@ -145,6 +148,8 @@ TEST(Renderer, MeshCacheUploadsOnceAndEvictsUnusedMeshes) {
 }
 
 TEST(Renderer, RejectsMeshesWithIndicesOutOfRange) {
+  PENUMBRA_STABILITY("a mesh with indices out of range",
+                     "the mesh rejected and counted; the frame renders", "-");
   test::TestContext ctx;
   Renderer renderer(ctx.device);
   OffscreenTarget target(32, 18);

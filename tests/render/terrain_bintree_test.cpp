@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/stability.h"
 #include "render_test_util.h"
 
 namespace penumbra::render {
@@ -198,6 +199,9 @@ TEST(TerrainBintree, CoarsensWithDistanceAndCullsOutsideTheView) {
 }
 
 TEST(TerrainBintree, DegenerateFieldsGiveAnEmptyMeshOrSkipBadSamples) {
+  PENUMBRA_STABILITY(
+      "a 1-wide field; heights shorter than the grid; a NaN sample",
+      "no triangles; no triangles; the NaN's cells skipped, the rest a conforming cover", "-");
   TerrainBintree tree;
   std::vector<std::uint32_t> indices;
   tree.build(field(1, 5, 1.0f, hills));

@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include "common/stability.h"
 
 namespace penumbra::render {
 namespace {
 
 TEST(VkCheck, ErrorsNameTheCallAndTheResult) {
+  PENUMBRA_STABILITY("a failed Vulkan call", "VulkanError naming the call and the result", "-");
   EXPECT_NO_THROW(vk_check(VK_SUCCESS, "vkCreateDevice"));
   try {
     vk_check(VK_ERROR_FEATURE_NOT_PRESENT, "vkCreateDevice");

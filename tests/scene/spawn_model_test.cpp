@@ -2,10 +2,11 @@
 
 #include <gtest/gtest.h>
 
-#include "penumbra/components/mesh.h"
-#include "penumbra/components/transform.h"
+#include "common/stability.h"
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/load_error.h"
+#include "penumbra/components/mesh.h"
+#include "penumbra/components/transform.h"
 #include "test_support.h"
 
 namespace penumbra::scene {
@@ -60,6 +61,7 @@ TEST(SpawnModel, InstancesShareMeshDataAndQueriesSeeThem) {
 }
 
 TEST(SpawnModel, FailedLoadLeavesTheWorldUnchanged) {
+  PENUMBRA_STABILITY("a model that fails to load", "LoadError; the world unchanged", "-");
   ecs::World world;
   EXPECT_THROW(
       load_gltf_into_world(test::assimp_gltf2() / "RecursiveNodes" / "RecursiveNodes.gltf", world),

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/stability.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/rotation.h"
@@ -127,6 +128,9 @@ TEST(ShBatch, ExponentialsMatchScalarOnBlockerSums) {
 // NaN, infinite and huge lanes (exp_visibility's clamp and its fallback) next to ordinary ones:
 // every lane as the scalar function, and an ordinary lane untouched by its neighbours.
 TEST(ShBatch, NonFiniteAndHugeInputsFallBackAsScalar) {
+  PENUMBRA_STABILITY("NaN, infinite and huge SH lanes beside ordinary ones",
+                     "each lane as the scalar function; visibility finite and within [0, 1]",
+                     "exp_visibility's clamp and fallback");
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   std::mt19937 rng(3);

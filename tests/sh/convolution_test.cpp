@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "common/stability.h"
 #include "penumbra/sh/rotation.h"
 #include "sh_test_util.h"
 
@@ -17,7 +18,8 @@ TEST(Irradiance, ConstantSkyGivesPiL) {
   l[0] = 2.0f * std::sqrt(4 * kPi);  // L = 2 everywhere
   const auto e = irradiance_convolve<4>(l);
   std::mt19937 rng(30);
-  for (int t = 0; t < 20; ++t) EXPECT_NEAR(evaluate<4>(e, test::random_direction(rng)), 2 * kPi, 1e-4f);
+  for (int t = 0; t < 20; ++t)
+    EXPECT_NEAR(evaluate<4>(e, test::random_direction(rng)), 2 * kPi, 1e-4f);
 }
 
 TEST(Irradiance, MatchesBruteForceCosineIntegral) {
@@ -30,7 +32,8 @@ TEST(Irradiance, MatchesBruteForceCosineIntegral) {
     const glm::vec3 n = test::random_direction(rng);
     double brute = 0;
     for (std::size_t i = 0; i < q.directions.size(); ++i) {
-      brute += evaluate<3>(l, q.directions[i]) * std::fmax(0.0f, glm::dot(n, q.directions[i])) * q.weights[i];
+      brute += evaluate<3>(l, q.directions[i]) * std::fmax(0.0f, glm::dot(n, q.directions[i])) *
+               q.weights[i];
     }
     // 3-band radiance: irradiance_convolve is exact; the brute force has the cosine's kink.
     EXPECT_NEAR(evaluate<3>(e, n), brute, 2e-3 * std::abs(brute));
@@ -48,6 +51,9 @@ TEST(Deringing, SmoothSkyNeedsNoWindow) {
 }
 
 TEST(Deringing, SharpLightGetsAWindowAndNonNegativeIrradiance) {
+  PENUMBRA_STABILITY("a bright 3-degree sun over a dim sky at 5 bands",
+                     "rings: negative irradiance opposite the sun",
+                     "deringing window (the weakest that removes it)");
   // A bright 3-degree sun over a dim sky, projected to 5 bands, rings: its irradiance dips
   // below zero opposite the sun. Deringing must remove that with the weakest window.
   const float sun = 3.0f * kPi / 180;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/stability.h"
 #include "sh_test_util.h"
 
 namespace penumbra::sh {
@@ -23,8 +24,8 @@ TEST(Quadrature, WeightsSumToSphereAndIntegratePolynomials) {
     x2y2 += q.weights[i] * d.x * d.x * d.y * d.y;
   }
   EXPECT_NEAR(sum, 4 * kPi, 1e-4);
-  EXPECT_NEAR(z4, 4 * kPi / 5, 1e-4);        // integral of z^4 over the sphere
-  EXPECT_NEAR(x2y2, 4 * kPi / 15, 1e-4);     // integral of x^2 y^2
+  EXPECT_NEAR(z4, 4 * kPi / 5, 1e-4);     // integral of z^4 over the sphere
+  EXPECT_NEAR(x2y2, 4 * kPi / 15, 1e-4);  // integral of x^2 y^2
 }
 
 TEST(Projection, RecoversBandLimitedFunctions) {
@@ -83,6 +84,7 @@ TEST(Equirect, ConstantMapHasOnlyDc) {
 }
 
 TEST(Equirect, RejectsEmptyMap) {
+  PENUMBRA_STABILITY("an empty equirectangular map", "std::invalid_argument", "-");
   EXPECT_THROW(project_equirect<4>(nullptr, 0, 10), std::invalid_argument);
 }
 

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "test_meshes.h"
 
 namespace penumbra::spherical_lights {
@@ -75,6 +76,9 @@ TEST(SampleReflector, TwoSpheresSplitTheSurfaceAndDropDirectionsTheOtherCovers) 
 }
 
 TEST(SampleReflector, ACentreOutsideTheObjectUsesTheOppositeRaysFrontSide) {
+  PENUMBRA_STABILITY("a sphere centre outside its object (a thin slab below it)",
+                     "rays meeting nothing take the opposite rays' front side: the slab's top face",
+                     "-");
   // A thin slab below a sphere whose centre is above it: rays upwards meet nothing, so the
   // opposite (downward) rays give the slab's top face (case 3).
   const data::MeshData slab = test::box_mesh(glm::vec3(-1, -1, -0.1f), glm::vec3(1, 1, 0));
@@ -116,6 +120,9 @@ TEST(SampleReflector, ARayThroughASharedEdgeFindsItsPoint) {
 }
 
 TEST(SampleReflector, BadInputNamesTheMeshAndTheReason) {
+  PENUMBRA_STABILITY(
+      "no spheres, radius 0, NaN centre, a mesh of nothing; a sphere whose segment is empty",
+      "std::invalid_argument naming the mesh; the empty segment is valid and emits nothing", "-");
   data::MeshData box = test::box_mesh(glm::vec3(-1), glm::vec3(1));
   const std::vector<data::Sphere> ok = {{glm::vec3(0), 2.0f, -1}};
   data::MeshData empty;

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include "common/stability.h"
 
 namespace penumbra::spherical_lights {
 namespace {
@@ -69,6 +70,8 @@ TEST(SphereLightGather, ABlockerInFrontDarkensTheLightBehindIt) {
 }
 
 TEST(SphereLightGather, NothingPopsWhenCapsStartToOverlap) {
+  PENUMBRA_STABILITY("caps starting to overlap (a light moving in small steps)",
+                     "faded in: no jump above 0.005 at the onset", "the overlap fade");
   // The blocker slides across the light from 3 m aside to the axis in 2 mm steps; the light goes
   // out (0.59 to 0). Where the caps first touch (x = 1.57) the fade keeps every step below
   // 0.005 (steepest slope there: ~0.004 per step). Further in, HYB's exponential changes its
@@ -116,6 +119,10 @@ TEST(SphereLightGather, IntersectingSpheresOfOneObjectDoNotBlockEachOther) {
 // sphere (black) is hidden by the near one in front of it; per object, one object is wholly in
 // front (object 0: its centre is nearer), so its far sphere darkens object 1's near sphere.
 TEST(SphereLightGather, PerObjectBlockingFailsForInterlockingObjectsAndPerSphereDoesNot) {
+  PENUMBRA_STABILITY(
+      "two interlocking objects under per-object blocking",
+      "wrong order: the far sphere darkens the other object's near one ([Guerrero08] fig. 11)",
+      "per-sphere blocking");
   const glm::vec3 p(0), n(0, 0, 1);
   auto lights = [] {
     return std::vector<SphereLightSource<4>>{
@@ -150,6 +157,12 @@ TEST(SphereLightGather, ALocalLightIsShadowedButBlocksNothing) {
 }
 
 TEST(SphereLightGather, DegenerateLightsGiveFiniteDocumentedResults) {
+  PENUMBRA_STABILITY(
+      "an SL of radius 0; an SL containing the receiver; two coincident SLs of different objects; "
+      "a black SL",
+      "no light; finite, at most pi L; the nearer hides the other but for eps (1.51x one, not 2x); "
+      "emits nothing, still blocks",
+      "the plane rule; eps of the caps");
   const glm::vec3 p(0), n(0, 0, 1);
   SphereLightGather<4> g(settings());
   // Radius zero: no light.
@@ -174,6 +187,8 @@ TEST(SphereLightGather, DegenerateLightsGiveFiniteDocumentedResults) {
 }
 
 TEST(SphereLightGather, BadInputIsNamed) {
+  PENUMBRA_STABILITY("a non-finite centre or radiance, radius < 0, a non-finite receiver",
+                     "std::invalid_argument naming the light or receiver", "-");
   SphereLightGather<4> g(settings());
   try {
     g.set_lights({uniform_light(glm::vec3(0, 0, 4), 1.0f, 3.0f, 0),
@@ -304,6 +319,10 @@ TEST(SphereLightGather, NonPlanarClustersShadeEveryReceiverExactly) {
 }
 
 TEST(SphereLightGather, ClusterErrorsAreNamed) {
+  PENUMBRA_STABILITY(
+      "receivers and normals of different counts, a bad cluster setting, shading unclustered "
+      "receivers",
+      "std::invalid_argument naming the receiver", "-");
   const std::vector<glm::vec3> p = {glm::vec3(0), glm::vec3(NAN)}, n(2, glm::vec3(0, 0, 1));
   EXPECT_THROW(cluster_receivers(p, std::vector<glm::vec3>(1, glm::vec3(0, 0, 1))),
                std::invalid_argument);

@@ -29,6 +29,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "common/stability.h"
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/sphere_fit.h"
 #include "penumbra/reference/estimators.h"
@@ -609,6 +610,9 @@ TEST(SphericalLightAccuracy, TwoModelsCloseTogether) {
 // spheres; receivers on its inner floor and inner wall along 3 lines across its depth. Crevice:
 // within 0.5 m of the inner corner; open: farther than 1 m.
 TEST(SphericalLightErrorSources, CreviceDarkeningFromOutsideVolume) {
+  PENUMBRA_STABILITY("a crevice of an object fitted with 4 or 8 spheres",
+                     "the SL set's larger volume darkens the crevice ([Guerrero08] sec. 8.2)",
+                     "more spheres per object (8: less bias)");
   const data::MeshData mesh =
       prism({{0, 0}, {2, 0}, {2, 0.5f}, {0.5f, 0.5f}, {0.5f, 2}, {0, 2}}, 0.75f);
   Receivers rx;
@@ -646,6 +650,7 @@ TEST(SphericalLightErrorSources, CreviceDarkeningFromOutsideVolume) {
     // Measured: 4 SLs (Er 3.0) total bias -48.5% in the crevice, -15.2% in the open (direct
     // -38.9% / -15.2%, indirect -85.4% / -14.3%); 8 SLs (Er 1.6) -35.4% / -12.6% (direct
     // -23.7% / -11.5%, indirect -79.7% / -30.6%); the reference's noise 0.15% (total).
+    PENUMBRA_STABILITY_MEASURE("crevice bias, " + std::to_string(count) + " SLs", tc.bias);
     EXPECT_LT(tc.bias, to.bias - (count == 4 ? 0.28 : 0.18));  // darker in the crevice
     EXPECT_GT(tc.bias, count == 4 ? -0.55 : -0.42);
   }
@@ -659,6 +664,8 @@ TEST(SphericalLightErrorSources, CreviceDarkeningFromOutsideVolume) {
 // the x axis, the SLs one behind the other, fig. 7 right) and side-on (on the y axis, side by
 // side, fig. 7 left); the signed indirect bias of each.
 TEST(SphericalLightErrorSources, BrighteningWhereSlsIntersect) {
+  PENUMBRA_STABILITY("SLs intersecting (a cylinder seen end-on)",
+                     "too bright where they overlap (measured +9.9% end-on, -1.0% side-on)", "-");
   const glm::vec3 a(-0.3f, 0, 1), b(0.3f, 0, 1);
   const float radius = 0.5f;
   data::MeshData mesh = uv_sphere(a, radius);
@@ -706,6 +713,8 @@ TEST(SphericalLightErrorSources, BrighteningWhereSlsIntersect) {
       "(rms %.1f%%); ref se %.2f%% / %.2f%%\n",
       100 * e.bias, 100 * e.rms, 100 * s.bias, 100 * s.rms, 100 * e.ref_se, 100 * s.ref_se);
   // Measured: end-on +9.9% (RMS 8.8%), side-on -1.0% (RMS 1.1%), reference noise 0.7%.
+  PENUMBRA_STABILITY_MEASURE("bias end-on", e.bias);
+  PENUMBRA_STABILITY_MEASURE("bias side-on", s.bias);
   EXPECT_GT(e.bias - s.bias, 0.08);
   EXPECT_LT(e.bias, 0.13);
 }
@@ -728,6 +737,9 @@ double sphere_irradiance(double cos_theta, double sin2_sigma) {
 }
 
 TEST(SphericalLightErrorSources, WeakerLightAtGrazingAngles) {
+  PENUMBRA_STABILITY("an SL crossing the receiver's horizon (grazing angles)",
+                     "kShrink: the light falls to 0.25 of exact at 90 deg, 0 from 110 deg",
+                     "EmitterHorizon::kClip: within 1% of exact");
   const glm::vec3 c(0, 0, 0);
   const float albedo = 0.5f;
   const std::vector<Object> objects = {
@@ -771,6 +783,8 @@ TEST(SphericalLightErrorSources, WeakerLightAtGrazingAngles) {
   // 110 on (exact 0.0034 there): far more than [Guerrero08] sec. 8.1's "very small" (the plane
   // rule's shrink before the exact, horizon-clipped cap integral). kClip: within 1.0% of
   // exact wherever exact > 1e-3 (0.3% facing it): the table's eq. 16 weight and interpolation.
+  PENUMBRA_STABILITY_MEASURE("kShrink worst relative error", worst);
+  PENUMBRA_STABILITY_MEASURE("kClip max relative error", clip_max);
   EXPECT_LT(inside_max, 0.01);
   EXPECT_LT(worst, -0.9);
   EXPECT_LT(clip_max, 0.03);
@@ -785,6 +799,9 @@ TEST(SphericalLightErrorSources, WeakerLightAtGrazingAngles) {
 // Banding: the spread (max - min) of the signed indirect error along that line, relative to the
 // line's mean reference indirect irradiance, straight and bent.
 TEST(SphericalLightErrorSources, BandingAtA180DegreeBend) {
+  PENUMBRA_STABILITY("an object bent 180 degrees",
+                     "banding: the error's spread along a line grows (14.7% straight, 35.3% bent)",
+                     "-");
   const float length = 4, a = 0.25f, h = 0.6f;
   const int sls = 8;
   const data::MeshData straight = cylinder(length, a, h, 128, 32);
@@ -839,6 +856,8 @@ TEST(SphericalLightErrorSources, BandingAtA180DegreeBend) {
   // +39%); bent 180 degrees, +10.3% .. +45.6% (spread 35.3%, bias +25%); reference noise 0.2%.
   // (Before sample_reflector's rays hit both triangles of a shared edge, the cylinder's rays
   // along its mesh edges found no point and those directions emitted nothing: +17% / +7.8%.)
+  PENUMBRA_STABILITY_MEASURE("error spread, straight", spread[0]);
+  PENUMBRA_STABILITY_MEASURE("error spread, bent", spread[1]);
   EXPECT_GT(spread[1], spread[0] + 0.1);
   EXPECT_LT(spread[1], 0.42);
 }

@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/frame_work.h"
+#include "common/stability.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/receiver.h"
@@ -146,6 +147,8 @@ TEST(SphericalLightSystems, SwitchedOffClearsTheIndirectTerm) {
 }
 
 TEST(SphericalLightSystems, ABadTransformIsNamedAndEmitsNothing) {
+  PENUMBRA_STABILITY("a non-finite or zero-scale transform in the ECS",
+                     "named in SphericalLightField::errors; the object emits nothing", "-");
   Scene s;
   s.world.get_mut<Transform>(s.cube)->world[3][0] = NAN;
   s.executor.run(s.schedule, s.world);
@@ -160,6 +163,8 @@ TEST(SphericalLightSystems, ABadTransformIsNamedAndEmitsNothing) {
 }
 
 TEST(SphericalLightSystems, AnObjectSunkIntoTheTerrainEmitsNothing) {
+  PENUMBRA_STABILITY("an object sunk into the terrain",
+                     "sample points under the surface reflect nothing: it emits nothing", "-");
   // A flat terrain 5 m up, over the whole cube: every sample point is under its surface and
   // reflects nothing, so the cube's light is black. (The cast shadow alone would leave the
   // log-SH floor, eps = 0.2 of the sky: 0.18 of the albedo measured before this rule.)

@@ -34,6 +34,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 #include "penumbra/systems/terrain_shadow/transfer.h"
@@ -592,6 +593,10 @@ TEST(TerrainReference, GroundPlaneModelsTheClampedHorizon) {
 // catch it once or twice (1.3%), 32 (0.50%) and 64 (0.36%, max 1.0%: the reference's noise,
 // 0.35%) resolve it.
 TEST(TerrainFailureModes, ThinConeBetweenSampledAzimuths) {
+  PENUMBRA_STABILITY(
+      "a thin spike between the sampled azimuths (8 horizon azimuths)",
+      "the spike is invisible to every azimuth: too bright next to it (missing occlusion)",
+      "more azimuths (64: error below 1/5 of 8's)");
   auto spike = flat_field(256);
   for (int y = 0; y < 256; ++y)
     for (int x = 0; x < 256; ++x)
@@ -634,6 +639,8 @@ TEST(TerrainFailureModes, ThinConeBetweenSampledAzimuths) {
   std::printf("  spike: the reference's darkest receiver gets %.3f of the flat ground's light\n",
               darkest);
   EXPECT_LT(darkest, 0.95);
+  PENUMBRA_STABILITY_MEASURE("rel. RMS, 8 azimuths", err[8].rel_rms);
+  PENUMBRA_STABILITY_MEASURE("rel. RMS, 64 azimuths", err[64].rel_rms);
   EXPECT_GT(err[8].rel_rms, 0.028);
   EXPECT_GT(err[8].max_rel, 0.055);
   EXPECT_GT(err[8].bias, 0.025);  // missing occlusion: too bright
@@ -654,6 +661,9 @@ TEST(TerrainFailureModes, ThinConeBetweenSampledAzimuths) {
 // filtered levels still flatten the wall; the line sweep, exact on the grid lines, does (0.79%,
 // 2.1%, reference noise 0.57%).
 TEST(TerrainFailureModes, ThinWallBetweenMarchSamples) {
+  PENUMBRA_STABILITY("a 2-cell wall between the pyramid march's distance samples",
+                     "averaged away by the pre-filtered levels: light through the wall (bias > 0)",
+                     "the exact line sweep (default); a finer level step only helps");
   auto wall = flat_field(256);
   for (int y = 28; y < 228; ++y)
     for (int x = 100; x < 102; ++x) wall->at(x, y) = 16.0f;
@@ -678,6 +688,8 @@ TEST(TerrainFailureModes, ThinWallBetweenMarchSamples) {
   const ErrorSummary ls1 = error(config(HorizonMethod::kMarch, 32, 1, 2));
   const ErrorSummary ls4 = error(config(HorizonMethod::kMarch, 32, 4, 2));
   const ErrorSummary sweep = error(config(HorizonMethod::kSweep, 32));
+  PENUMBRA_STABILITY_MEASURE("rel. RMS, march ls 1", ls1.rel_rms);
+  PENUMBRA_STABILITY_MEASURE("rel. RMS, line sweep", sweep.rel_rms);
   EXPECT_GT(ls1.rel_rms, 0.065);
   EXPECT_GT(ls1.max_rel, 0.20);
   EXPECT_GT(ls1.bias, 0.04);  // the missed wall lets light through

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include "common/stability.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -59,6 +60,8 @@ TEST(CastShadow, LogVisibilityIsTheLogWedgeSumOfThePointsHorizons) {
 }
 
 TEST(CastShadow, RejectsNonFinitePointsAndHemisphereTables) {
+  PENUMBRA_STABILITY("a non-finite cast-shadow point; a hemisphere wedge table",
+                     "std::invalid_argument", "caller passes finite points and a sphere table");
   const auto f = walled(8);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   EXPECT_THROW(point_horizons(f, 1, {nan, 1, 1}, 8), std::invalid_argument);

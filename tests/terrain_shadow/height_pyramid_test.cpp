@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/stability.h"
 #include "penumbra/assets/procedural.h"
 #include "terrain_test_util.h"
 
@@ -136,6 +137,8 @@ TEST(HeightPyramid, RebuildsAtAnotherSize) {
 }
 
 TEST(HeightPyramid, RejectsBadInputNamingTheField) {
+  PENUMBRA_STABILITY("level step 0 or 17, a 1-wide field, cell size 0",
+                     "std::invalid_argument naming the field", "-");
   auto expect_error = [](const data::HeightField& f, float scale, int ls) {
     HeightPyramid p;
     try {

@@ -11,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "common/stability.h"
 #include "penumbra/assets/procedural.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "terrain_test_util.h"
@@ -49,6 +50,8 @@ double mean_abs_error(const HorizonGrid& a, const HorizonGrid& b) {
 }
 
 TEST(HorizonMarch, FlatTerrain) {
+  PENUMBRA_STABILITY("flat terrain; a receiver at the field's edge; a light straight above",
+                     "horizon 0 inside, -pi/2 past the edge and above: no NaN", "-");
   const auto f = test::flat_field(24, 24, 0.0f, 1.0f, "test field");
   HorizonParams p;
   p.azimuths = 8;
@@ -195,6 +198,8 @@ TEST(HorizonMarch, WritesOnlyTheRegion) {
 }
 
 TEST(HorizonMarch, RejectsBadInputNamingTheField) {
+  PENUMBRA_STABILITY("an empty pyramid or bad march parameters",
+                     "std::invalid_argument naming the field", "-");
   const auto f = test::flat_field(16, 16, 0.0f, 1.0f, "test field");
   HeightPyramid pyramid;
   pyramid.build(f, 1.0f, {4});

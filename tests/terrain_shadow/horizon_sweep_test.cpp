@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "common/stability.h"
 #include "penumbra/assets/procedural.h"
 
 namespace penumbra::terrain_shadow {
@@ -194,6 +195,8 @@ TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
 }
 
 TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {
+  PENUMBRA_STABILITY("a single-texel spike of 1e6 (extreme slope)",
+                     "horizon angles finite, within [0, pi/2]", "-");
   data::HeightField f;
   f.width = f.height = 16;
   f.heights.assign(256, 0.0f);
@@ -211,6 +214,8 @@ TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {
 }
 
 TEST(HorizonSweep, RejectsADistanceLimit) {
+  PENUMBRA_STABILITY("a distance limit given to the (unlimited) sweep", "std::invalid_argument",
+                     "use the march for limited distances");
   const auto f = mountains(8);
   HorizonParams p;
   p.limit_to_point = glm::vec2(1, 1);

@@ -8,6 +8,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include "common/stability.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -28,6 +29,8 @@ TEST(HorizonInput, AcceptsAValidField) {
 }
 
 TEST(HorizonInput, RejectsNonFiniteHeightsNamingTheSample) {
+  PENUMBRA_STABILITY("a NaN height", "std::invalid_argument naming the file and the sample (x, y)",
+                     "-");
   auto f = test::flat_field(4, 4, 0.0f, 1.0f, "test.pgm");
   f.at(2, 3) = std::numeric_limits<float>::quiet_NaN();
   const std::string e = error_of(f, {}, TexelRect::all(f));
@@ -38,6 +41,9 @@ TEST(HorizonInput, RejectsNonFiniteHeightsNamingTheSample) {
 }
 
 TEST(HorizonInput, RejectsBadShapesAndParameters) {
+  PENUMBRA_STABILITY(
+      "bad cell size, azimuth count, height scale, rectangle outside, wrong height count",
+      "std::invalid_argument naming the field", "-");
   EXPECT_NE(
       error_of(test::flat_field(1, 5, 0.0f, 1.0f, "test.pgm"), {}, {0, 0, 1, 5}).find("2 x 2"),
       std::string::npos);

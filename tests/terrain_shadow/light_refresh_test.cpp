@@ -10,6 +10,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/systems/terrain_shadow/cap_transfer.h"
 #include "penumbra/systems/terrain_shadow/light_horizon_march.h"
 #include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
@@ -186,6 +187,8 @@ TEST(LightRefresh, RadialSweepWithinItsReachEqualsTheWholeSweep) {
 }
 
 TEST(LightRefresh, RejectsBadSettingsAndSizes) {
+  PENUMBRA_STABILITY("tile 0, budget 0, negative tolerance; positions not width x height",
+                     "std::invalid_argument", "-");
   EXPECT_THROW(LightRefresh({0, 0.01f, 0.01f, 0.5f}), std::invalid_argument);
   EXPECT_THROW(LightRefresh({16, 0.01f, 0.01f, 0.0f}), std::invalid_argument);
   EXPECT_THROW(LightRefresh({16, -1.0f, 0.01f, 0.5f}), std::invalid_argument);

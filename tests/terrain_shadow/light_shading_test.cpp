@@ -23,6 +23,7 @@
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
+#include "common/stability.h"
 #include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
@@ -367,6 +368,11 @@ TEST(LightShading, RadialSweepOverRegionsEqualsFullSweepThere) {
 
 // Degenerate lights in both modes (the documented behaviour of add_spherical_light).
 TEST(LightShading, DegenerateLightsInBothModes) {
+  PENUMBRA_STABILITY(
+      "lights of radius 0, containing a receiver, under the terrain, far outside the field",
+      "zero or finite non-negative irradiance in both shading modes; negative radius or radiance "
+      "rejected",
+      "-");
   for (LightShading s : {LightShading::kCapHorizon, LightShading::kShWedges}) {
     TerrainShadowing<4> ts(mode(s));
     ts.update(mountains(32), 1.0f);

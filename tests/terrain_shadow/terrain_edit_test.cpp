@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include "common/stability.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -35,6 +36,8 @@ TEST(TerrainEdit, RaiseAndSmooth) {
 }
 
 TEST(TerrainEdit, OffFieldChangesNothingAndBadBrushesThrow) {
+  PENUMBRA_STABILITY("a brush off the field; radius 0, bad smoothing strength, NaN centre",
+                     "nothing changed; bad brushes std::invalid_argument", "-");
   const auto f = test::shared_flat(8, 5.0f, 2.0f);
   const EditResult e = apply_brush(f, {BrushKind::kCrater, {500, 500}, 3, 1});
   EXPECT_TRUE(e.changed.empty());

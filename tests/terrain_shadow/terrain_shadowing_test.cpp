@@ -14,6 +14,7 @@
 #include "penumbra/assets/procedural.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
 
+#include "common/stability.h"
 #include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
@@ -142,6 +143,8 @@ TEST(TerrainShadowing, KeyLightIsTheCosineTimesTheDiscAboveTheHorizon) {
 // Radius 0, a receiver inside the light and a light under the terrain are covered for both
 // shading modes in light_shading_test.cpp; here, what add_spherical_light rejects.
 TEST(TerrainShadowing, RejectsInvalidLights) {
+  PENUMBRA_STABILITY("a light of negative radius or non-finite radiance", "std::invalid_argument",
+                     "-");
   TerrainShadowing<4> ts;
   ts.update(mountains(32), 1.0f);
   std::vector<glm::vec3> e;
@@ -152,6 +155,8 @@ TEST(TerrainShadowing, RejectsInvalidLights) {
 }
 
 TEST(TerrainShadowing, RejectsBadInputNamingIt) {
+  PENUMBRA_STABILITY("a NaN height in a loaded map; bad config",
+                     "std::invalid_argument naming the map", "-");
   auto f = std::make_shared<data::HeightField>(*test::shared_flat(8));
   f->at(3, 4) = std::numeric_limits<float>::quiet_NaN();
   f->source = "broken.pgm";

@@ -19,6 +19,7 @@
 #include "penumbra/sh/zh.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
 
+#include "common/stability.h"
 #include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
@@ -183,6 +184,8 @@ TEST(SphericalLight, IsTheRotatedCapProjection) {
 }
 
 TEST(SphericalLight, CulledInsideOrDegenerate) {
+  PENUMBRA_STABILITY("a receiver inside or on a light; radius 0 or < 0; NaN position",
+                     "zero SH radiance (culled), no NaN", "-");
   const sh::Coeffs<4> zero{};
   EXPECT_EQ(spherical_light_radiance<4>(glm::vec3(0.5f, 0, 0), 1.0f), zero);  // inside
   EXPECT_EQ(spherical_light_radiance<4>(glm::vec3(0, 1, 0), 1.0f), zero);     // on the surface

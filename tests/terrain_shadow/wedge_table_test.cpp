@@ -17,6 +17,7 @@
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
 
+#include "common/stability.h"
 #include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
@@ -132,6 +133,8 @@ TEST(WedgeExact, MatchesBruteForceProjection) {
 }
 
 TEST(WedgeExact, ClosedWedgeIsZeroAndRejectsBadWidth) {
+  PENUMBRA_STABILITY("a closed wedge (both horizons at the zenith); width 0 or > 2 pi",
+                     "zero; bad widths std::invalid_argument", "-");
   for (WedgeDomain domain : {WedgeDomain::kHemisphere, WedgeDomain::kSphere}) {
     EXPECT_LT(max_abs_diff<4>(wedge_exact<4>(kPi / 2, kPi / 2, 0.3f, domain), {}), 1e-7f);
   }
@@ -140,6 +143,8 @@ TEST(WedgeExact, ClosedWedgeIsZeroAndRejectsBadWidth) {
 }
 
 TEST(WedgeTable, RejectsBadArguments) {
+  PENUMBRA_STABILITY("a wedge table of fewer than 3 azimuths or 1 entry", "std::invalid_argument",
+                     "-");
   EXPECT_THROW(WedgeTable<4>(2, WedgeDomain::kSphere), std::invalid_argument);
   EXPECT_THROW(WedgeTable<4>(8, WedgeDomain::kSphere, 1), std::invalid_argument);
 }
