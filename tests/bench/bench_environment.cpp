@@ -5,10 +5,12 @@
 //    detection done before timing), against 003's way, one projection per OEM: 2^n x the time
 //    of one sh::project_equirect<kDefaultBands> of the whole map (measured as BM_Project);
 //  - BM_Luminance: the luminance pass alone (eq. 3.1), the detection's O(n) floor;
-//  - BM_TerrainKeyLights: the sources as the terrain's key lights against the map's SH alone,
-//    time and error against the reference (environment_key_lights.h; --records_out, --chart_out).
+//  - BM_TerrainKeyLights / BM_BlockerKeyLights: the sources (n = 0..3; the three-source map is
+//    studio.exr plus a sun built in code) as key lights of the terrain and of a sphere blocker
+//    over a plane against the map's SH alone, time and error against the reference
+//    (environment_key_lights.h; --records_out, --chart_out).
 //
-//   build/release/tests/bench/bench_environment --benchmark_out=build/bench/environment.json
+//   build/release/tests/bench/bench_environment --benchmark_out=build/bench/environment_gbench.json
 //       --benchmark_out_format=json --summary_out=build/bench/environment_summary.json
 //       --records_out=build/bench/environment.json --chart_out=build/bench/environment.svg
 #include <benchmark/benchmark.h>

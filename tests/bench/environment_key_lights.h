@@ -1,10 +1,17 @@
-// The environment group's key-light cases (issue 15, "Accuracy and benchmarks"): the terrain shaded
-// from the map's SH alone (n = 0) and with its sources as key lights (n = 1..found), each timed
-// (the compose of one frame: shade_environment, and per key light its horizon sweep and shading,
-// TerrainShadowing::key_light_horizons / add_key_light) and compared with the reference integrator
-// (tests/terrain_shadow terrain_reference.h: the dem crop and mountains at 256^2, 32 x 32 texel
-// receivers, 1,024 directions each, the full-resolution map). --records_out writes one JSON record
-// per case, --chart_out the chart of error against time (one series per map, labelled with n).
+// The environment group's key-light cases (issue 15, "Accuracy and benchmarks"): a scene shaded
+// from the map's SH alone (n = 0) and with its first n sources as key lights (n = 1..found, up to
+// 3), each timed and compared with the reference integrator (errors as terrain_reference.h's
+// compare: RGB norm, relative RMS and max, the reference's own noise):
+//  - terrains (the dem crop and mountains at 256^2): the compose of one frame (shade_environment,
+//    and per key light its horizon sweep and shading, TerrainShadowing::key_light_horizons /
+//    add_key_light) against tests/terrain_shadow terrain_reference.h (32 x 32 texel receivers,
+//    1,024 directions each, the full-resolution map);
+//  - "sphere": one sphere blocker over a plane (BlockerAccumulation: SH visibility of the OEM,
+//    key_light_visibility per source), 17 x 17 receivers, 4,096 reference directions each.
+// Maps: sky, sunset, sunrise, studio (../shared/data/hdri) and studio_sun, studio.exr plus a sun
+// built in code (tests/environment/three_source_map.h), the one with three sources.
+// --records_out writes one JSON record per case, --chart_out the chart of error against time
+// (one series per map, each point labelled with its scene and n).
 #pragma once
 
 #include <string>
@@ -13,7 +20,7 @@
 
 namespace penumbra::bench::environment_keys {
 
-// Registers BM_TerrainKeyLights/<scene>/<map>/n:<n> for the scenes and maps below.
+// Registers BM_TerrainKeyLights/<terrain>/<map>/n:<n> and BM_BlockerKeyLights/<map>/n:<n>.
 void register_benchmarks();
 // Adds its summary rows (ms against the n = 0 case, error) to `s`.
 void summarize(const Results& r, Summary& s);
