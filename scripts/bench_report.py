@@ -11,7 +11,8 @@ goal counts (PASS / MISS / N/A); groups with no GROUP_summary.json are listed as
 per group: the machine as its JSON records it, the summary table (cases, values, ratios,
 floors and value / floor, goals and their status), its charts (GROUP.svg, GROUP_*.svg; the
 Pareto front is drawn by the chart writer), and the tables scripts/bench_table.py writes from
-the group's records. Then the main job's headline numbers from play.json (scripts/play_table.py),
+the group's records. Then the main job's headline numbers from play.json (scripts/play_table.py)
+with its systems' CPU time and work done / skipped per frame,
 and last the stability table from stability.json (scripts/stability_table.py, `./penumbra
 stability`) when it is there.
 Every text taken from the JSON is escaped. Standard library only.
@@ -334,6 +335,17 @@ def play_section(folder):
             parts.append(f"<tr><td>{esc(label)}</td><td class=\"num\">{esc(fmt(f[key]))} ms</td>"
                          "<td>-</td><td></td></tr>")
     parts.append("</table>")
+    systems = record.get("systems") or []
+    if systems:  # per system: CPU ms and the work it did and skipped per frame (jobs::report_work)
+        parts.append("<details><summary>Per system: CPU time and items done / skipped as unchanged, "
+                     "per frame</summary>\n<table>\n<tr><th>system</th><th>mean ms</th><th>max ms</th>"
+                     "<th>done / frame</th><th>skipped / frame</th></tr>")
+        for r in systems:
+            cells = [fmt(r.get(k)) if r.get(k) is not None else "-"
+                     for k in ("mean_ms", "max_ms", "done_per_frame", "skipped_per_frame")]
+            parts.append(f"<tr><td>{esc(r.get('name'))}</td>"
+                         + "".join(f"<td class=\"num\">{esc(c)}</td>" for c in cells) + "</tr>")
+        parts.append("</table>\n</details>")
     try:
         parts.append("<details><summary>All the play tables (scripts/play_table.py)</summary>\n"
                      + md_to_html(play_table.tables(record, alone)) + "\n</details>")
