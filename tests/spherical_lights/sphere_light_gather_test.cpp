@@ -93,6 +93,8 @@ TEST(SphereLightGather, NothingPopsWhenCapsStartToOverlap) {
     previous = e;
   }
   EXPECT_EQ(previous, 0.0f);
+  PENUMBRA_STABILITY_MEASURE("largest step at the onset", largest_at_onset);
+  PENUMBRA_STABILITY_MEASURE("largest step", largest);
   EXPECT_LT(largest_at_onset, 0.005f);
   EXPECT_LT(largest, 0.05f);
 }
@@ -179,6 +181,7 @@ TEST(SphereLightGather, DegenerateLightsGiveFiniteDocumentedResults) {
   g.set_lights({uniform_light(glm::vec3(0, 0, 4), 1.0f, 3.0f, 0),
                 uniform_light(glm::vec3(0, 0, 4), 1.0f, 3.0f, 1)});
   const float one = 3.0f * kPi * 0.0625f;
+  PENUMBRA_STABILITY_MEASURE("coincident pair / one light", red(g, p, n) / one);
   EXPECT_GT(red(g, p, n), 0.9f * one);
   EXPECT_LT(red(g, p, n), 1.6f * one);
   // Black: emits nothing, still blocks.
