@@ -9,7 +9,8 @@ test, one over three lines, and a #define that is not a call) and records/ (one 
 for the parameterised test's instances, one of a call no longer in the sources). Checked: the
 table's rows, cells (measured values, '|' escaped, instances merged), JSON and --write between
 markers; --check passing, then failing and naming the test for a missing record, a record older
-than its source and a corrupt one; and a replay of 400 deterministic mutations of a record
+than its source and a corrupt one; --run-missing leaving out (named) the calls of tests the
+build does not have, and failing for a folder without tests; and a replay of 400 deterministic mutations of a record
 (bit flips, truncations, insertions), each read as a record or rejected with RecordError naming
 the file, nothing else (the record format's fuzz target).
 """
@@ -95,6 +96,25 @@ with open(alpha, "wb") as f:
 rc, out = run(*base, "--check")
 check(rc == 1 and "CRC-32 mismatch" in out and "Alpha.ZeroRadiusIsFinite@6.json" in out,
       f"a corrupt record is named: {out}")
+
+# --run-missing with a build that has other tests only (a CTestTestfile.cmake of one test): the
+# calls of tests it does not have are named and left out of --check; a folder without tests is
+# no build and fails.
+with open(alpha, "wb") as f:
+    f.write(kept)
+os.utime(alpha, (now, now))
+os.remove(os.path.join(records, "Beta.EmptyCloudIsBlack@6.json"))
+build = os.path.join(work, "build")
+os.makedirs(build)
+with open(os.path.join(build, "CTestTestfile.cmake"), "w") as f:
+    f.write(f'add_test(Other.Test "{sys.executable}" -c "pass")\n')
+rc, out = run(*base, "--build", build, "--run-missing", "--check")
+check(rc == 0 and "Beta.EmptyCloudIsBlack (tests/beta/beta_test.cpp:6) is not a test of" in out
+      and "1 of tests this build does not have" in out, f"a test the build does not have: {out}")
+empty = os.path.join(work, "empty")
+os.makedirs(empty)
+rc, out = run(*base, "--build", empty, "--run-missing", "--check")
+check(rc == 1 and "has no tests" in out, f"a folder without tests fails --check: {out}")
 
 # Fuzz replay: mutations of a valid record are read or rejected with RecordError, nothing else.
 spec = importlib.util.spec_from_file_location("stability_table", script)
