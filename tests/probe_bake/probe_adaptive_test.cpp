@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
@@ -106,6 +107,8 @@ TEST(ProbeSpawnMerge, StepSpawnsAtTheStep) {
 }
 
 TEST(ProbeSpawnMerge, StopsAtItsCapAndIsDeterministic) {
+  PENUMBRA_STABILITY("spawn-merge with a probe cap below what the light asks for",
+                     "stops at the cap, the same probes every run", "--max-probes");
   const BakeScene s = open_box();
   SpawnMergeSettings set;
   set.max_probes = 140;
@@ -157,6 +160,8 @@ TEST(ProbeGradient, ClimbsAndRevertsInTheDarkAndClustersBlackProbes) {
 }
 
 TEST(ProbeGradient, StepIntoTheDarkIsReverted) {
+  PENUMBRA_STABILITY("a gradient step that takes a lit probe into the dark",
+                     "the step is reverted; black probes clustered (50 -> 7)", "-");
   const BakeScene s = open_box();
   // Light towards +x everywhere below x = 2.5, black above: probes at x = 2 step into the dark.
   CaptureFn f = [](std::span<const glm::vec3> pts, bool, std::vector<float>& sh,

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/stability.h"
 #include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
 
@@ -29,6 +30,7 @@ float surface_distance(const reference::Scene& traced, const glm::vec3& p) {
 }
 
 TEST(ProbeEdgeRays, OpenSpaceAddsNothing) {
+  PENUMBRA_STABILITY("edge rays in open space", "no probe added", "-");
   const BakeScene s = parse_bake_scene(
       R"({"probes": {"min": [0,0,0], "max": [3,3,3], "spacing": 1}})", "open.json", kData);
   const reference::Scene traced(s.desc);
@@ -39,6 +41,8 @@ TEST(ProbeEdgeRays, OpenSpaceAddsNothing) {
 }
 
 TEST(ProbeEdgeRays, ThinWallGetsProbesOnBothSides) {
+  PENUMBRA_STABILITY("a 0.1 m wall between two grid columns (light leaking through a thin wall)",
+                     "probes added on both sides of the wall, none inside", "--edge-rays");
   // A 0.1 m wall at x = 0 between grid columns x = -0.5 and x = +0.5; open space elsewhere.
   const BakeScene s = parse_bake_scene(
       R"({"geometry": [{"kind": "wall", "from": [0, -5], "to": [0, 5], "base": -5, "height": 10,

@@ -36,6 +36,9 @@ std::vector<glm::vec3> random_points(std::size_t n, unsigned seed, float size = 
 }
 
 TEST(ProbeCloudBuild, Grid10x10x10MaximallyCospherical) {
+  PENUMBRA_STABILITY("a 10x10x10 grid far from the origin (every cube cospherical)",
+                     "a valid cloud: 4,348 tetrahedra, 972 outer cells",
+                     "exact predicates with symbolic perturbation");
   std::vector<glm::vec3> p;
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j)
@@ -55,6 +58,9 @@ TEST(ProbeCloudBuild, Grid10x10x10MaximallyCospherical) {
 }
 
 TEST(ProbeCloudBuild, RandomPointsWithExactAndNearDuplicates) {
+  PENUMBRA_STABILITY("random points with exact and sub-millimetre duplicates",
+                     "duplicates within the merge distance merged, 2 mm apart kept; valid",
+                     "merge distance");
   std::vector<glm::vec3> p = random_points(1000, 11);
   std::vector<float> sh(p.size() * 27, 1.0f);
   for (int i = 0; i < 50; ++i) p.push_back(p[static_cast<std::size_t>(i * 7)]);  // exact
@@ -77,6 +83,8 @@ TEST(ProbeCloudBuild, RandomPointsWithExactAndNearDuplicates) {
 }
 
 TEST(ProbeCloudBuild, CoplanarAndCollinearSetsHaveNoCells) {
+  PENUMBRA_STABILITY("coplanar, collinear and tilted-plane probe sets",
+                     "no cells (no error); one probe off the plane makes a valid thin cloud", "-");
   std::vector<glm::vec3> plane, line;
   for (int i = 0; i < 100; ++i) {
     plane.push_back({float(i % 10), float(i / 10), 0.0f});
@@ -100,6 +108,8 @@ TEST(ProbeCloudBuild, CoplanarAndCollinearSetsHaveNoCells) {
 }
 
 TEST(ProbeCloudBuild, FourCoplanarPoints) {
+  PENUMBRA_STABILITY("four coplanar probes; one lifted 1 mm",
+                     "no cells, valid; lifted: one thin tetrahedron, 5 cells, valid", "-");
   const std::vector<glm::vec3> p{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};
   const data::ProbeCloud cloud = build_probe_cloud(p, {});
   EXPECT_VALID(cloud);
@@ -128,6 +138,9 @@ TEST(ProbeCloudBuild, ZeroToThreeProbes) {
 }
 
 TEST(ProbeCloudBuild, KilometreSceneAtOneMetreAndFarProbes) {
+  PENUMBRA_STABILITY(
+      "a 1 km strip at 1 m spacing at kilometre coordinates plus probes 100 m apart (godot #82642)",
+      "a valid cloud, no false duplicates", "exact predicates");
   // A 1 km strip of the terrain-following layer at 1 m spacing (two layers 1 m apart, 1000 x 3
   // probes each), at kilometre coordinates, plus probes 100 m apart above it (godot #82642).
   std::vector<glm::vec3> p;
