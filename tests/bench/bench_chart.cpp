@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 namespace penumbra::bench {
 namespace {
@@ -23,6 +24,17 @@ std::string svg_escape(const std::string& s) {
       out += c;
   }
   return out;
+}
+
+const char* const kPalette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728",
+                                "#9467bd", "#8c564b", "#e377c2", "#7f7f7f"};
+const char* const kDashes[] = {"", "6 4", "2 3"};
+
+// A round step (1, 2 or 5 x 10^k) giving about five intervals up to `max`.
+double round_step(double max) {
+  const double raw = max > 0 ? max / 5 : 0.2;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  return raw / mag <= 1 ? mag : raw / mag <= 2 ? 2 * mag : raw / mag <= 5 ? 5 * mag : 10 * mag;
 }
 
 }  // namespace
@@ -211,6 +223,100 @@ std::string chart_svg(const ChartSpec& spec, const std::vector<ChartPoint>& pts)
   for (std::size_t i = 0; i < notes.size(); ++i)
     o << "<text x=\"" << lx << "\" y=\"" << ly + 16 * static_cast<double>(i) << "\" fill=\"#555\">"
       << svg_escape(notes[i]) << "</text>\n";
+  o << "</svg>\n";
+  return o.str();
+}
+
+std::string line_chart_svg(const LineChartSpec& spec, const std::vector<LineSeries>& series) {
+  if (!(spec.x_max > spec.x_min))
+    throw std::invalid_argument("line_chart_svg: x_max must be above x_min");
+  for (const LineSeries& s : series)
+    if (s.x.size() != s.y.size())
+      throw std::invalid_argument("line_chart_svg: series '" + s.name +
+                                  "' has different numbers of x and y values");
+  const double W = 920, H = 600, left = 80, right = 250, top = 50, bottom = 70;
+  const double pw = W - left - right, ph = H - top - bottom;
+  std::ostringstream o;
+  o.precision(5);
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
+    << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+    << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+    << "<text x=\"" << left << "\" y=\"24\" font-size=\"15\" font-weight=\"bold\">"
+    << svg_escape(spec.title) << "</text>\n"
+    << "<text x=\"" << left << "\" y=\"40\" fill=\"#555\">" << svg_escape(spec.subtitle)
+    << "</text>\n";
+  double ymax_data = 0;
+  std::size_t points = 0;
+  for (const LineSeries& s : series) {
+    points += s.y.size();
+    for (double y : s.y) ymax_data = std::max(ymax_data, y);
+  }
+  if (points == 0) {
+    o << "<text x=\"" << left + 20 << "\" y=\"" << top + ph / 2 << "\">"
+      << svg_escape(spec.empty_text) << "</text>\n</svg>\n";
+    return o.str();
+  }
+  const double step = round_step(ymax_data);
+  const double ymax = std::max(step * std::ceil(ymax_data * 1.08 / step), step);
+  const double span = spec.x_max - spec.x_min;
+  // Half a tick of margin on both sides, so that the end points' markers stay inside.
+  const double margin = 0.04 * span;
+  auto X = [&](double x) { return left + (x - spec.x_min + margin) / (span + 2 * margin) * pw; };
+  auto Y = [&](double y) { return top + ph - std::clamp(y, 0.0, ymax) / ymax * ph; };
+
+  o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
+    << "\" fill=\"none\" stroke=\"#333\"/>\n";
+  const double x_step = std::max(1.0, std::ceil(span / 10));
+  for (double v = std::ceil(spec.x_min); v <= spec.x_max + 1e-9; v += x_step) {
+    const double x = X(v);
+    o << "<line x1=\"" << x << "\" y1=\"" << top << "\" x2=\"" << x << "\" y2=\"" << top + ph
+      << "\" stroke=\"#eee\"/>\n<text x=\"" << x << "\" y=\"" << top + ph + 16
+      << "\" text-anchor=\"middle\">" << v << "</text>\n";
+  }
+  for (double e = 0; e <= ymax + 1e-12; e += step) {
+    const double y = Y(e);
+    o << "<line x1=\"" << left << "\" y1=\"" << y << "\" x2=\"" << left + pw << "\" y2=\"" << y
+      << "\" stroke=\"#eee\"/>\n<text x=\"" << left - 6 << "\" y=\"" << y + 4
+      << "\" text-anchor=\"end\">" << e << "</text>\n";
+  }
+  o << "<text x=\"" << left + pw / 2 << "\" y=\"" << H - 24 << "\" text-anchor=\"middle\">"
+    << svg_escape(spec.x_label) << "</text>\n"
+    << "<text x=\"22\" y=\"" << top + ph / 2
+    << "\" text-anchor=\"middle\" transform=\"rotate(-90 22 " << top + ph / 2 << ")\">"
+    << svg_escape(spec.y_label) << "</text>\n";
+
+  auto dash_attr = [](const LineSeries& s) {
+    const char* d = kDashes[((s.dash % 3) + 3) % 3];
+    return *d ? std::string(" stroke-dasharray=\"") + d + "\"" : std::string();
+  };
+  auto colour = [](const LineSeries& s) { return kPalette[((s.colour % 8) + 8) % 8]; };
+  for (const LineSeries& s : series) {
+    if (s.x.size() >= 2) {
+      o << "<polyline points=\"";
+      for (std::size_t i = 0; i < s.x.size(); ++i)
+        o << (i ? " " : "") << X(s.x[i]) << "," << Y(s.y[i]);
+      o << "\" fill=\"none\" stroke=\"" << colour(s) << "\" stroke-width=\"2\"" << dash_attr(s)
+        << "/>\n";
+    }
+    for (std::size_t i = 0; i < s.x.size(); ++i)
+      o << "<circle cx=\"" << X(s.x[i]) << "\" cy=\"" << Y(s.y[i]) << "\" r=\"4\" fill=\""
+        << colour(s) << "\"><title>" << svg_escape(s.name) << ": x = " << s.x[i] << ", " << s.y[i]
+        << "</title></circle>\n";
+  }
+  const double lx = left + pw + 16;
+  double ly = top + 10;
+  o << "<text x=\"" << lx << "\" y=\"" << ly << "\" font-weight=\"bold\">"
+    << svg_escape(spec.legend_title) << "</text>\n";
+  for (const LineSeries& s : series) {
+    ly += 18;
+    o << "<line x1=\"" << lx << "\" y1=\"" << ly - 4 << "\" x2=\"" << lx + 24 << "\" y2=\""
+      << ly - 4 << "\" stroke=\"" << colour(s) << "\" stroke-width=\"2\"" << dash_attr(s)
+      << "/><text x=\"" << lx + 30 << "\" y=\"" << ly << "\">" << svg_escape(s.name) << "</text>\n";
+  }
+  ly += 28;
+  for (std::size_t i = 0; i < spec.notes.size(); ++i)
+    o << "<text x=\"" << lx << "\" y=\"" << ly + 16 * static_cast<double>(i) << "\" fill=\"#555\">"
+      << svg_escape(spec.notes[i]) << "</text>\n";
   o << "</svg>\n";
   return o.str();
 }

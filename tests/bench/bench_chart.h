@@ -5,6 +5,8 @@
 // of each front group dashed (no other point of the group both faster and more accurate), the
 // chosen points ringed, an optional goal line, and a legend. write_atomically() writes a
 // group's output through a temporary file and a rename, so a reader never sees half a file.
+// line_chart_svg() draws a quantity against a small linear x range (the environment group's
+// error against the number of key lights): one polyline with markers per series.
 #pragma once
 
 #include <optional>
@@ -41,6 +43,29 @@ struct ChartSpec {
 
 // The chart of `points` (in drawing order) as an SVG document.
 std::string chart_svg(const ChartSpec& spec, const std::vector<ChartPoint>& points);
+
+struct LineSeries {
+  std::string name;       // legend entry
+  std::vector<double> x;  // the points, in drawing order; x inside [x_min, x_max]
+  std::vector<double> y;  // same size as x; >= 0
+  int colour = 0;         // index into the chart's 8-colour palette (taken modulo 8)
+  int dash = 0;           // 0: solid, 1: dashed, 2: dotted (taken modulo 3)
+};
+
+struct LineChartSpec {
+  std::string title, subtitle;  // plain text (escaped when written)
+  std::string x_label, y_label;
+  double x_min = 0, x_max = 1;  // the x axis, linear, a tick at each integer; x_max > x_min
+  std::string legend_title = "series";
+  std::vector<std::string> notes;  // grey lines under the legend
+  std::string empty_text = "no points in this run";
+};
+
+// The chart of `series` (linear x from spec.x_min to x_max, linear y from 0 to a round step
+// above the largest y) as an SVG document; each point a marker with a tooltip
+// "name: x = X, Y". Throws std::invalid_argument naming the series whose x and y sizes differ,
+// and when x_max <= x_min.
+std::string line_chart_svg(const LineChartSpec& spec, const std::vector<LineSeries>& series);
 
 // Writes `text` to `path` (creating its folder) through `path`.tmp and a rename; false on
 // failure.

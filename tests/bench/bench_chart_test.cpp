@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,65 @@ TEST(BenchChart, PointsAboveTheErrorLimitAreHollowOnTheTopEdge) {
   EXPECT_NE(svg.find(">high (37%)</text>"), std::string::npos);
   EXPECT_NE(svg.find(">20</text>"), std::string::npos);  // the axis ends at the limit
   EXPECT_EQ(svg.find(">25</text>"), std::string::npos);
+}
+
+pb::LineChartSpec line_spec() {
+  pb::LineChartSpec s;
+  s.title = "error against n";
+  s.x_label = "n";
+  s.y_label = "error, %";
+  s.x_min = 0;
+  s.x_max = 3;
+  s.legend_title = "scene, map";
+  s.notes = {"a note"};
+  return s;
+}
+
+TEST(BenchChart, LineChartDrawsOneLinePerSeriesWithMarkersAndALegend) {
+  const std::vector<pb::LineSeries> series = {
+      {.name = "dem, sky", .x = {0, 1}, .y = {3, 1.1}, .colour = 0, .dash = 0},
+      {.name = "sphere, studio + sun",
+       .x = {0, 1, 2, 3},
+       .y = {15.8, 4.9, 2.7, 2.2},
+       .colour = 1,
+       .dash = 1},
+      {.name = "lonely <one>", .x = {0}, .y = {7}, .colour = 9, .dash = 2}};
+  const std::string svg = pb::line_chart_svg(line_spec(), series);
+  EXPECT_EQ(count(svg, "<polyline"), 2u);                 // a single point draws no line
+  EXPECT_EQ(count(svg, "<circle"), 7u);                   // one marker per point
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"6 4\""), 2u);  // the dashed line and its legend entry
+  EXPECT_EQ(count(svg, "stroke-dasharray=\"2 3\""), 1u);  // the dotted legend entry only
+  EXPECT_NE(svg.find("<title>sphere, studio + sun: x = 3, 2.2</title>"), std::string::npos);
+  EXPECT_NE(svg.find(">lonely &lt;one&gt;</text>"), std::string::npos);
+  EXPECT_NE(svg.find("stroke=\"#ff7f0e\""), std::string::npos);  // colour 9: palette 1
+  for (const char* tick : {">0</text>", ">1</text>", ">2</text>", ">3</text>"})
+    EXPECT_NE(svg.find(tick), std::string::npos) << tick;
+  EXPECT_NE(svg.find(">15</text>"), std::string::npos);  // y axis: steps of 5 up to 20
+  EXPECT_NE(svg.find(">20</text>"), std::string::npos);
+  EXPECT_EQ(svg.find(">25</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">scene, map</text>"), std::string::npos);
+  EXPECT_NE(svg.find(">a note</text>"), std::string::npos);
+  EXPECT_EQ(svg.substr(svg.size() - 7), "</svg>\n");
+}
+
+TEST(BenchChart, LineChartWithoutPointsSaysSo) {
+  pb::LineChartSpec s = line_spec();
+  s.empty_text = "nothing measured";
+  const std::string svg = pb::line_chart_svg(s, {{.name = "empty"}});
+  EXPECT_NE(svg.find("nothing measured"), std::string::npos);
+  EXPECT_EQ(count(svg, "<circle"), 0u);
+}
+
+TEST(BenchChart, LineChartRejectsMismatchedSeriesAndAnEmptyRange) {
+  try {
+    pb::line_chart_svg(line_spec(), {{.name = "bad", .x = {0, 1}, .y = {1}}});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'bad'"), std::string::npos) << e.what();
+  }
+  pb::LineChartSpec s = line_spec();
+  s.x_max = s.x_min;
+  EXPECT_THROW(pb::line_chart_svg(s, {}), std::invalid_argument);
 }
 
 TEST(BenchChart, WriteAtomicallyCreatesTheFolderAndLeavesNoTemporary) {

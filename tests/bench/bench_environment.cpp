@@ -8,11 +8,12 @@
 //  - BM_TerrainKeyLights / BM_BlockerKeyLights: the sources (n = 0..3; the three-source map is
 //    studio.exr plus a sun built in code) as key lights of the terrain and of a sphere blocker
 //    over a plane against the map's SH alone, time and error against the reference
-//    (environment_key_lights.h; --records_out, --chart_out).
+//    (environment_key_lights.h; --records_out, --chart_out, --chart_n_out).
 //
 //   build/release/tests/bench/bench_environment --benchmark_out=build/bench/environment_gbench.json
 //       --benchmark_out_format=json --summary_out=build/bench/environment_summary.json
 //       --records_out=build/bench/environment.json --chart_out=build/bench/environment.svg
+//       --chart_n_out=build/bench/environment_n.svg
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -172,6 +173,7 @@ pb::Summary summarize(const pb::Results& r) {
 int main(int argc, char** argv) {
   const std::string records = pb::take_flag(argc, argv, "records_out");
   const std::string chart = pb::take_flag(argc, argv, "chart_out");
+  const std::string chart_n = pb::take_flag(argc, argv, "chart_n_out");
   return pb::run_group(
       argc, argv, "environment",
       [] {
@@ -181,7 +183,7 @@ int main(int argc, char** argv) {
       [&](const pb::Results& r) {
         pb::Summary s = summarize(r);
         pb::environment_keys::summarize(r, s);
-        pb::environment_keys::write_outputs(r, records, chart);
+        pb::environment_keys::write_outputs(r, records, chart, chart_n);
         return s;
       });
 }

@@ -1,13 +1,16 @@
 #include "environment_key_lights.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <sstream>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -214,6 +217,32 @@ std::string map_file(const std::string& map) {
   return map == "studio_sun" ? std::string("studio.exr + sun") : map + ".exr";
 }
 
+// The chart of error against the number of key lights, one line per scene and map.
+// ref_se_percent: the smallest and largest relative standard error of the references.
+void write_n_chart(const std::vector<LineSeries>& lines, const double ref_se_percent[2],
+                   const std::string& path) {
+  if (path.empty()) return;
+  LineChartSpec spec;
+  spec.title = "Environment sources as key lights: error against n";
+  spec.subtitle =
+      "256^2 terrains (32 x 32 texel receivers) and a sphere over a plane (17 x 17) vs the "
+      "reference integrator; n = 0: the map's SH alone";
+  spec.x_label =
+      "n: the map's brightest sources taken out of the SH as key lights ([Ambrosj16] ch. 4)";
+  spec.y_label = "relative RMS irradiance error vs reference, %";
+  spec.x_min = 0;
+  spec.x_max = 3;
+  spec.legend_title = "scene, map";
+  std::ostringstream noise;
+  noise.precision(2);
+  noise << "reference noise " << ref_se_percent[0] << "-" << ref_se_percent[1] << "%";
+  spec.notes = {"colour: map; line: scene", "(solid dem, dashed mountains,", "dotted sphere)",
+                "n stops at the sources found", noise.str()};
+  spec.empty_text = "no key-light case with a reference error in this run";
+  if (!write_atomically(path, line_chart_svg(spec, lines)))
+    std::fprintf(stderr, "bench_environment: cannot write %s\n", path.c_str());
+}
+
 }  // namespace
 
 void register_benchmarks() {
@@ -256,9 +285,11 @@ void summarize(const Results& r, Summary& s) {
     }
 }
 
-void write_outputs(const Results& r, const std::string& records_path,
-                   const std::string& chart_path) {
+void write_outputs(const Results& r, const std::string& records_path, const std::string& chart_path,
+                   const std::string& chart_n_path) {
   std::vector<ChartPoint> points;
+  std::vector<LineSeries> lines;  // one per scene and map: error against n
+  double ref_se_percent[2] = {1e300, 0};
   std::ostringstream o;
   double load[3] = {0, 0, 0};
   const int nl = getloadavg(load, 3);
@@ -267,8 +298,15 @@ void write_outputs(const Results& r, const std::string& records_path,
     << (nl > 0 ? load[0] : 0) << ", " << (nl > 1 ? load[1] : 0) << ", " << (nl > 2 ? load[2] : 0)
     << "],\n  \"records\": [";
   bool first = true;
-  for (const char* scene : kScenes)
-    for (const char* map : kMaps)
+  for (int si = 0; si < static_cast<int>(std::size(kScenes)); ++si)
+    for (int mi = 0; mi < static_cast<int>(std::size(kMaps)); ++mi) {
+      const char* scene = kScenes[si];
+      const char* map = kMaps[mi];
+      LineSeries line{.name = std::string(scene) + ", " + map_file(map),
+                      .x = {},
+                      .y = {},
+                      .colour = mi,
+                      .dash = si};
       for (int n = 0; n <= max_keys(map); ++n) {
         const std::string k = key(scene, map, n);
         const auto ms = scale(r.real_ns(k), 1e-6);
@@ -289,10 +327,20 @@ void write_outputs(const Results& r, const std::string& records_path,
                           .label = std::string(scene) + " n=" + std::to_string(n),
                           .key = k,
                           .front = std::string(scene) + "/" + map});
+        line.x.push_back(n);
+        line.y.push_back(*e * 100);
+        if (se) {
+          ref_se_percent[0] = std::min(ref_se_percent[0], *se * 100);
+          ref_se_percent[1] = std::max(ref_se_percent[1], *se * 100);
+        }
       }
+      if (!line.x.empty()) lines.push_back(std::move(line));
+    }
   o << "\n  ]\n}\n";
   if (!records_path.empty() && !write_atomically(records_path, o.str()))
     std::fprintf(stderr, "bench_environment: cannot write %s\n", records_path.c_str());
+  if (ref_se_percent[0] > ref_se_percent[1]) ref_se_percent[0] = ref_se_percent[1] = 0;
+  write_n_chart(lines, ref_se_percent, chart_n_path);
   if (chart_path.empty()) return;
   ChartSpec spec;
   spec.title = "Environment sources as key lights: error against time, n = 0..3";

@@ -11,7 +11,8 @@
 // Maps: sky, sunset, sunrise, studio (../shared/data/hdri) and studio_sun, studio.exr plus a sun
 // built in code (tests/environment/three_source_map.h), the one with three sources.
 // --records_out writes one JSON record per case, --chart_out the chart of error against time
-// (one series per map, each point labelled with its scene and n).
+// (one series per map, each point labelled with its scene and n), --chart_n_out the chart of
+// error against n (one line per scene and map: colour the map, dash the scene).
 #pragma once
 
 #include <string>
@@ -24,8 +25,9 @@ namespace penumbra::bench::environment_keys {
 void register_benchmarks();
 // Adds its summary rows (ms against the n = 0 case, error) to `s`.
 void summarize(const Results& r, Summary& s);
-// Writes the records and the chart ("" paths: not written).
-void write_outputs(const Results& r, const std::string& records_path,
-                   const std::string& chart_path);
+// Writes the records, the chart of error against time and the chart of error against n ("" paths:
+// not written).
+void write_outputs(const Results& r, const std::string& records_path, const std::string& chart_path,
+                   const std::string& chart_n_path);
 
 }  // namespace penumbra::bench::environment_keys
