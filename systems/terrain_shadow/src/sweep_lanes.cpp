@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "fast_math.h"
+#include "lanes.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow::detail {
@@ -23,25 +24,6 @@ constexpr int kVectors = kGroupLines / 8;  // AVX2 vectors per group
 // A recorded receiver's angles: 8 zero slots, then its kGroupLines lanes (the zeros let the
 // scatter read "the lane below" with one unaligned load).
 constexpr int kRecord = kGroupLines + 8;
-
-// m[i][j] <- m[j][i].
-inline void transpose8(__m256 m[8]) {
-  __m256 t[8], s[8];
-  for (int i = 0; i < 8; i += 2) {
-    t[i] = _mm256_unpacklo_ps(m[i], m[i + 1]);
-    t[i + 1] = _mm256_unpackhi_ps(m[i], m[i + 1]);
-  }
-  for (int i = 0; i < 8; i += 4) {
-    s[i] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(1, 0, 1, 0));
-    s[i + 1] = _mm256_shuffle_ps(t[i], t[i + 2], _MM_SHUFFLE(3, 2, 3, 2));
-    s[i + 2] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(1, 0, 1, 0));
-    s[i + 3] = _mm256_shuffle_ps(t[i + 1], t[i + 3], _MM_SHUFFLE(3, 2, 3, 2));
-  }
-  for (int i = 0; i < 4; ++i) {
-    m[i] = _mm256_permute2f128_ps(s[i], s[i + 4], 0x20);
-    m[i + 4] = _mm256_permute2f128_ps(s[i], s[i + 4], 0x31);
-  }
-}
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -103,17 +104,35 @@ void exact_diffuse_transfer_8(const sh::Coeffs<N + 1>* visibility, const glm::ve
   constexpr int M = N + 1;
   static const Couplings<N> kG = couplings<N>();
   Lanes v[M * M];
-  for (int j = 0; j < M * M; ++j)
+  int j0 = 0;  // coefficients below j0 are in v already
+#ifdef __AVX2__
+  for (; j0 + 8 <= M * M; j0 += 8) {  // 8 x 8 blocks transposed in registers
+    __m256 m[8];
+    for (int l = 0; l < 8; ++l) m[l] = _mm256_loadu_ps(visibility[l].data() + j0);
+    detail::transpose8(m);
+    for (int k = 0; k < 8; ++k) std::memcpy(&v[j0 + k], &m[k], sizeof(Lanes));
+  }
+#endif
+  for (int j = j0; j < M * M; ++j)
     for (int l = 0; l < 8; ++l) v[j][l] = visibility[l][j];
   Lanes part[3][N * N] = {};
   for (int c = 0; c < 3; ++c)
     for (const Coupling& e : kG.c[c]) part[c][e.i] += e.g * v[e.j];
   Lanes nx, ny, nz;
   for (int l = 0; l < 8; ++l) nx[l] = normals[l].x, ny[l] = normals[l].y, nz[l] = normals[l].z;
-  for (int i = 0; i < N * N; ++i) {
-    const Lanes o = nx * part[0][i] + ny * part[1][i] + nz * part[2][i];
-    for (int l = 0; l < 8; ++l) out[l][i] = o[l];
+  Lanes o[N * N];
+  for (int i = 0; i < N * N; ++i) o[i] = nx * part[0][i] + ny * part[1][i] + nz * part[2][i];
+  int i0 = 0;
+#ifdef __AVX2__
+  for (; i0 + 8 <= N * N; i0 += 8) {
+    __m256 m[8];
+    for (int k = 0; k < 8; ++k) std::memcpy(&m[k], &o[i0 + k], sizeof(Lanes));
+    detail::transpose8(m);
+    for (int l = 0; l < 8; ++l) _mm256_storeu_ps(out[l].data() + i0, m[l]);
   }
+#endif
+  for (int i = i0; i < N * N; ++i)
+    for (int l = 0; l < 8; ++l) out[l][i] = o[i][l];
 }
 
 template <int N>
