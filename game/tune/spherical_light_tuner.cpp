@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/task_arena.h>
+
 #include "penumbra/assets/sphere_fit.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
@@ -30,7 +32,8 @@ SphericalLightTuner::SphericalLightTuner(const TuneScene& scene, const TuneOptio
     : scene_(scene), options_(options) {
   knobs_ = {{"directions_frequency", {"1", "2", "3", "4"}},
             {"blocking", {"per_object", "per_sphere"}},
-            {"horizon", {"shrink", "clip"}}};
+            {"horizon", {"shrink", "clip"}},
+            {"gather", {"clusters_parents", "clusters_leaves", "receivers"}}};
   if (scene.objects.empty())
     throw std::runtime_error(scene.source + ": spherical lights: the scene has no objects");
   std::vector<reference::Receiver> receivers;
@@ -55,6 +58,14 @@ SphericalLightTuner::SphericalLightTuner(const TuneScene& scene, const TuneOptio
     for (const data::Sphere& sp : assets::fit_spheres(o.local, fo).spheres)
       world.push_back({glm::vec3(o.world * glm::vec4(sp.centre, 1.0f)), o.scale * sp.radius, -1});
     spheres_.push_back(std::move(world));
+  }
+  {
+    const std::vector<glm::vec3> up(points_.size(), glm::vec3(0, 0, 1));
+    sl::SlClusterSettings cs;  // the default far_ratio
+    cs.hierarchy = sl::SlHierarchy::kLeaves;
+    leaves_ = sl::cluster_receivers(points_, up, cs);
+    cs.hierarchy = sl::SlHierarchy::kParents;
+    parents_ = sl::cluster_receivers(points_, up, cs);
   }
   reference::SceneDesc d;
   for (const TuneObject& o : scene.objects) {
@@ -92,6 +103,7 @@ settings::SphericalLightTuning SphericalLightTuner::tuning(const Config& c) cons
   t.directions_frequency = std::stoi(knobs_[0].values[static_cast<std::size_t>(c[0])]);
   t.blocking = knobs_[1].values[static_cast<std::size_t>(c[1])];
   t.horizon = knobs_[2].values[static_cast<std::size_t>(c[2])];
+  t.gather = knobs_[3].values[static_cast<std::size_t>(c[3])];
   return t;
 }
 
@@ -113,6 +125,10 @@ Evaluation SphericalLightTuner::evaluate(const settings::SphericalLightTuning& t
   settings.blocking =
       t.blocking == "per_object" ? sl::SlBlocking::kPerObject : sl::SlBlocking::kPerSphere;
   settings.horizon = t.horizon == "clip" ? sl::EmitterHorizon::kClip : sl::EmitterHorizon::kShrink;
+  const sl::SlReceiverClusters* clusters = t.gather == "clusters_leaves"    ? &leaves_
+                                           : t.gather == "clusters_parents" ? &parents_
+                                                                            : nullptr;
+  tbb::task_arena one(1);  // shade(clusters) runs in the caller's arena: one thread, as below
   std::vector<glm::vec3> e(points_.size());
   Evaluation out;
   out.ms = min_ms(options_.timing_reps, [&] {
@@ -123,8 +139,11 @@ Evaluation SphericalLightTuner::evaluate(const settings::SphericalLightTuning& t
     }
     sl::SphereLightGather<N> gather(settings);  // pass 2
     gather.set_lights(std::move(lights));
-    for (std::size_t i = 0; i < points_.size(); ++i)
-      e[i] = gather.irradiance(points_[i], glm::vec3(0, 0, 1));
+    if (clusters)
+      one.execute([&] { gather.shade(*clusters, e); });
+    else
+      for (std::size_t i = 0; i < points_.size(); ++i)
+        e[i] = gather.irradiance(points_[i], glm::vec3(0, 0, 1));
   });
   out.cost = out.ms;
   out.error = rel_rms(e, reference_);

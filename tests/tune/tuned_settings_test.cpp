@@ -26,6 +26,7 @@ TunedSettings sample() {
   s.blockers.spheres_per_object = 64;
   s.blockers.epsilon = 0.3f;
   s.blockers.result = {true, 0.0589, false, 0.6, 0.6, 18, 80};
+  s.spherical_lights.gather = "clusters_leaves";
   s.probes.spacing = 23.6f;
   s.probes.probes_per_side = 11;
   s.probes.placement = "spawn_merge";
@@ -136,6 +137,30 @@ TEST(TunedSettings, RejectsBadFields) {
   EXPECT_NE(rejection(with_payload(good, "\"budget\": 0.03,", "")).find("budget: missing"),
             std::string::npos);
   EXPECT_NE(rejection(with_payload(good, "{", "[")).find("not JSON"), std::string::npos);
+}
+
+// spherical_lights.gather is optional (files from before the knob load as "receivers"), written
+// always, and checked like the other enums.
+TEST(TunedSettings, GatherIsOptionalAndChecked) {
+  const std::string good = encode_settings(sample());
+  EXPECT_NE(good.find("\"gather\": \"clusters_leaves\""), std::string::npos);
+  const TunedSettings old = parse_settings(
+      with_payload(good, "\"gather\": \"clusters_leaves\",\n    ", ""), "old.settings");
+  EXPECT_EQ(old.spherical_lights.gather, "receivers");
+  TunedSettings expected = sample();
+  expected.spherical_lights.gather = "receivers";
+  EXPECT_EQ(old, expected);
+  EXPECT_EQ(parse_settings(with_payload(good, "\"clusters_leaves\"", "\"clusters_parents\""), "x")
+                .spherical_lights.gather,
+            "clusters_parents");
+  EXPECT_NE(rejection(with_payload(good, "\"clusters_leaves\"", "\"clusters\""))
+                .find("spherical_lights.gather: unknown value \"clusters\""),
+            std::string::npos);
+  EXPECT_NE(rejection(with_payload(good, "\"clusters_leaves\"", "3")).find("expected a string"),
+            std::string::npos);
+  TunedSettings s = sample();
+  s.spherical_lights.gather = "all";
+  EXPECT_THROW(encode_settings(s), std::invalid_argument);
 }
 
 TEST(TunedSettings, WriterRejectsWhatTheReaderWould) {

@@ -18,7 +18,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     // same values.
     if (!(s.budget > 0) || !std::isfinite(s.budget) || s.terrain.azimuths < 3 ||
         s.terrain.bands < 3 || s.terrain.bands > 6 || s.blockers.spheres_per_object < 1 ||
-        !(s.blockers.epsilon > 0 && s.blockers.epsilon < 1) || !(s.probes.spacing > 0))
+        !(s.blockers.epsilon > 0 && s.blockers.epsilon < 1) || !(s.probes.spacing > 0) ||
+        (s.spherical_lights.gather != "receivers" &&
+         s.spherical_lights.gather != "clusters_leaves" &&
+         s.spherical_lights.gather != "clusters_parents"))
       __builtin_trap();
     if (parse_settings(encode_settings(s), "fuzz.again") != s) __builtin_trap();
   } catch (const penumbra::assets::LoadError&) {

@@ -151,6 +151,7 @@ std::string payload_of(const TunedSettings& s) {
   j["spherical_lights"] = Json{{"directions_frequency", s.spherical_lights.directions_frequency},
                                {"blocking", s.spherical_lights.blocking},
                                {"horizon", s.spherical_lights.horizon},
+                               {"gather", s.spherical_lights.gather},
                                {"result", result_json(s.spherical_lights.result)}};
   j["probes"] = Json{{"spacing", s.probes.spacing},
                      {"probes_per_side", s.probes.probes_per_side},
@@ -186,12 +187,16 @@ TunedSettings parse_payload(const Json& j, const std::string& name) {
   }
   {
     const Json& l = r.object(j, "spherical_lights", "",
-                             {"directions_frequency", "blocking", "horizon", "result"});
+                             {"directions_frequency", "blocking", "horizon", "gather", "result"});
     s.spherical_lights.directions_frequency =
         r.integer(l, "directions_frequency", "spherical_lights", 1, 8);
     s.spherical_lights.blocking =
         r.text(l, "blocking", "spherical_lights", {"per_sphere", "per_object"});
     s.spherical_lights.horizon = r.text(l, "horizon", "spherical_lights", {"shrink", "clip"});
+    // Optional: files from before the knob lack it (per receiver, what they were tuned with).
+    if (l.contains("gather"))
+      s.spherical_lights.gather = r.text(l, "gather", "spherical_lights",
+                                         {"receivers", "clusters_leaves", "clusters_parents"});
     s.spherical_lights.result = r.result(l, "spherical_lights");
   }
   {

@@ -8,14 +8,17 @@
 //   penumbra-settings <version> <length> <fnv1a64>\n<payload>
 // <version> decimal (1), <length> the payload's byte count in decimal, <fnv1a64> the FNV-1a 64
 // of the payload (assets::fnv1a64) as 16 lowercase hex digits. Payload object (every field
-// required, unknown fields are errors):
+// required except spherical_lights.gather, unknown fields are errors):
 //   {"scene": str, "budget": num,
 //    "terrain":          {"horizon": "sweep"|"march", "level_step": 1..16, "azimuths": 3..256,
 //                         "bands": 3..6, "result": R},
 //    "blockers":         {"spheres_per_object": 1..1024, "epsilon": (0, 1), "bands": 3..6,
 //                         "result": R},
 //    "spherical_lights": {"directions_frequency": 1..8, "blocking": "per_sphere"|"per_object",
-//                         "horizon": "shrink"|"clip", "result": R},
+//                         "horizon": "shrink"|"clip",
+//                         "gather": "receivers"|"clusters_leaves"|"clusters_parents" (optional,
+//                         "receivers" when absent: files written before the knob still load;
+//                         the writer always writes it), "result": R},
 //    "probes":           {"spacing": > 0, "probes_per_side": 2..1024,
 //                         "placement": "grid"|"spawn_merge"|"gradient", "result": R}}
 //   R = {"tuned": bool, "error": >= 0, "met": bool, "cost": >= 0, "ms": >= 0,
@@ -74,6 +77,9 @@ struct SphericalLightTuning {
   int directions_frequency = 3;         // geodesic frequency: 10 f^2 + 2 sample directions per SL
   std::string blocking = "per_sphere";  // "per_sphere" | "per_object" (SlBlocking)
   std::string horizon = "clip";         // "shrink" | "clip": EmitterHorizon at ground receivers
+  // The hierarchy cut: "receivers" (irradiance per receiver), "clusters_leaves" or
+  // "clusters_parents" (shade(clusters), SlHierarchy kLeaves / kParents, [Guerrero08] sec. 7.3).
+  std::string gather = "receivers";
   TuneResult result;
   bool operator==(const SphericalLightTuning&) const = default;
 };
