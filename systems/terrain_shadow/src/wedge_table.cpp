@@ -295,8 +295,10 @@ sh::Coeffs<N> WedgeTable<N>::visibility(const float* angles) const {
       const Block* c10 = c00 + row;
 #pragma GCC unroll 8
       for (int v = 0; v < kB; ++v) {
-        const Lanes w = (g00[j] * load_block(c00[v]) + g01[j] * load_block(c00[kB + v])) +
-                        (g10[j] * load_block(c10[v]) + g11[j] * load_block(c10[kB + v]));
+        // One product and three multiply-adds in a chain (paired sums would take five).
+        const Lanes w = ((g00[j] * load_block(c00[v]) + g01[j] * load_block(c00[kB + v])) +
+                         g10[j] * load_block(c10[v])) +
+                        g11[j] * load_block(c10[kB + v]);
         u[v] += load_block(rot[v]) * w;
         t[v] += load_block(rot[kB + v]) * w;
       }
