@@ -45,7 +45,7 @@ void apply_to_demo(const SystemSettings& s, terrain_shadow::TerrainShadowConfig&
 // Sets, for each system the file tuned, the tuned fields of the settings resources present in
 // `world` (TerrainShadowSettings::config: method, azimuths, pyramid step;
 // BlockerSettingsResource::settings.blocker.epsilon; SphericalLightSettingsResource: blocking,
-// terrain_horizon);
+// terrain_horizon; not the gather, the hierarchy cut: the main job's gather is per receiver);
 // every other field keeps its value. The
 // terrain's config is read when a terrain first gets its state: call before the first frame.
 void apply_to_world(const SystemSettings& s, ecs::World& world);
