@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "penumbra/assets/sphere_fit.h"
+#include "object_receivers.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
@@ -18,9 +18,6 @@ namespace penumbra::tune {
 namespace ba = blocker_accumulation;
 
 namespace {
-
-constexpr int kGrid = 12;        // receivers per side under each object
-constexpr float kReach = 1.25f;  // half-width of that grid in object radii
 
 template <int N>
 Evaluation run(const TuneScene& s, const SplitSky& sky, const std::vector<data::Sphere>& spheres,
@@ -61,25 +58,10 @@ BlockerTuner::BlockerTuner(const TuneScene& scene, const TuneOptions& options)
             {"bands", {"3", "4", "5", "6"}}};
   if (scene.objects.empty())
     throw std::runtime_error(scene.source + ": blockers: the scene has no objects");
+  points_ = ground_receivers(scene);
   std::vector<reference::Receiver> receivers;
-  for (const TuneObject& o : scene.objects) {
-    const float half = kReach * o.radius;
-    for (int j = 0; j < kGrid; ++j)
-      for (int i = 0; i < kGrid; ++i) {
-        const glm::vec3 p(o.ground.x - half + 2 * half * (i + 0.5f) / kGrid,
-                          o.ground.y - half + 2 * half * (j + 0.5f) / kGrid, o.ground.z);
-        points_.push_back(p);
-        receivers.push_back({p, glm::vec3(0, 0, 1)});
-      }
-  }
-  reference::SceneDesc d;
-  for (const TuneObject& o : scene.objects) {
-    reference::MeshInstance m;
-    m.mesh = o.mesh;
-    m.albedo = o.albedo;
-    d.meshes.push_back(std::move(m));
-  }
-  d.environment = reference::EnvironmentLight{scene.environment, scene.rotation_rad()};
+  for (const glm::vec3& p : points_) receivers.push_back({p, glm::vec3(0, 0, 1)});
+  const reference::SceneDesc d = object_scene(scene);
   const reference::Scene traced(d);
   reference::IrradianceOptions io;
   io.samples = options.reference_samples;
@@ -93,17 +75,8 @@ const std::vector<data::Sphere>& BlockerTuner::world_spheres(int count) const {
   if (it != fits_.end()) return it->second;
   std::vector<data::Sphere> out;
   for (const TuneObject& o : scene_.objects) {
-    assets::SphereFitOptions fo;
-    fo.count = count;
-    fo.method = assets::SphereFitMethod::kKMeans;
-    fo.surface_samples = 4096;
-    fo.volume_cells = 16384;
-    fo.eval_samples = 1 << 12;
-    fo.coverage_samples = 1 << 10;
-    fo.seed = options_.seed;
-    const assets::SphereFitResult fit = assets::fit_spheres(o.local, fo);
-    for (const data::Sphere& sp : fit.spheres)
-      out.push_back({glm::vec3(o.world * glm::vec4(sp.centre, 1.0f)), o.scale * sp.radius, -1});
+    const std::vector<data::Sphere> fit = fit_world_spheres(o, count, options_.seed);
+    out.insert(out.end(), fit.begin(), fit.end());
   }
   return fits_.emplace(count, std::move(out)).first->second;
 }

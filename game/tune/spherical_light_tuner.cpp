@@ -6,7 +6,7 @@
 
 #include <tbb/task_arena.h>
 
-#include "penumbra/assets/sphere_fit.h"
+#include "object_receivers.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
@@ -21,10 +21,8 @@ namespace sl = spherical_lights;
 
 namespace {
 
-constexpr int N = 4;             // the system's bands (spherical_lights::kSystemBands)
-constexpr int kSpheres = 16;     // per object: the main job's boulders (BoulderConfig::spheres)
-constexpr int kGrid = 12;        // receivers per side under each object, as BlockerTuner
-constexpr float kReach = 1.25f;  // half-width of that grid in object radii
+constexpr int N = 4;          // the system's bands (spherical_lights::kSystemBands)
+constexpr int kSpheres = 16;  // per object: the main job's boulders (BoulderConfig::spheres)
 
 }  // namespace
 
@@ -36,29 +34,11 @@ SphericalLightTuner::SphericalLightTuner(const TuneScene& scene, const TuneOptio
             {"gather", {"clusters_parents", "clusters_leaves", "receivers"}}};
   if (scene.objects.empty())
     throw std::runtime_error(scene.source + ": spherical lights: the scene has no objects");
+  points_ = ground_receivers(scene);
   std::vector<reference::Receiver> receivers;
-  for (const TuneObject& o : scene.objects) {
-    const float half = kReach * o.radius;
-    for (int j = 0; j < kGrid; ++j)
-      for (int i = 0; i < kGrid; ++i) {
-        const glm::vec3 p(o.ground.x - half + 2 * half * (i + 0.5f) / kGrid,
-                          o.ground.y - half + 2 * half * (j + 0.5f) / kGrid, o.ground.z);
-        points_.push_back(p);
-        receivers.push_back({p, glm::vec3(0, 0, 1)});
-      }
-    assets::SphereFitOptions fo;
-    fo.count = kSpheres;
-    fo.method = assets::SphereFitMethod::kKMeans;
-    fo.surface_samples = 4096;
-    fo.volume_cells = 16384;
-    fo.eval_samples = 1 << 12;
-    fo.coverage_samples = 1 << 10;
-    fo.seed = options.seed;
-    std::vector<data::Sphere> world;
-    for (const data::Sphere& sp : assets::fit_spheres(o.local, fo).spheres)
-      world.push_back({glm::vec3(o.world * glm::vec4(sp.centre, 1.0f)), o.scale * sp.radius, -1});
-    spheres_.push_back(std::move(world));
-  }
+  for (const glm::vec3& p : points_) receivers.push_back({p, glm::vec3(0, 0, 1)});
+  for (const TuneObject& o : scene.objects)
+    spheres_.push_back(fit_world_spheres(o, kSpheres, options.seed));
   {
     const std::vector<glm::vec3> up(points_.size(), glm::vec3(0, 0, 1));
     sl::SlClusterSettings cs;  // the default far_ratio
@@ -67,14 +47,7 @@ SphericalLightTuner::SphericalLightTuner(const TuneScene& scene, const TuneOptio
     cs.hierarchy = sl::SlHierarchy::kParents;
     parents_ = sl::cluster_receivers(points_, up, cs);
   }
-  reference::SceneDesc d;
-  for (const TuneObject& o : scene.objects) {
-    reference::MeshInstance m;
-    m.mesh = o.mesh;
-    m.albedo = o.albedo;
-    d.meshes.push_back(std::move(m));
-  }
-  d.environment = reference::EnvironmentLight{scene.environment, scene.rotation_rad()};
+  const reference::SceneDesc d = object_scene(scene);
   const reference::Scene traced(d);
   reference::BounceOptions bo;
   bo.samples = 4 * options.bounce_samples;
