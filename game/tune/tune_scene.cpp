@@ -14,6 +14,7 @@
 #include "penumbra/assets/exr.h"
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/heightmap.h"
+#include "penumbra/assets/json_fields.h"
 #include "penumbra/assets/sphere_fit.h"
 
 namespace penumbra::tune {
@@ -23,69 +24,16 @@ namespace {
 using Json = nlohmann::json;
 constexpr float kDeg = 3.14159265358979f / 180.0f;
 
-struct Reader {
-  const std::string& file;
-  [[noreturn]] void fail(const std::string& path, const std::string& why) const {
-    throw std::runtime_error(file + ": " + path + ": " + why);
-  }
-  void only(const Json& j, const std::string& path, std::set<std::string> allowed) const {
-    if (!j.is_object()) fail(path, std::string("expected an object, got ") + j.type_name());
-    for (const auto& [k, v] : j.items())
-      if (!allowed.count(k)) fail(path + "." + k, "unknown field");
-  }
-  const Json& field(const Json& j, const std::string& path, const char* key) const {
-    const auto it = j.find(key);
-    if (it == j.end()) fail(path + "." + key, "missing");
-    return *it;
-  }
-  float number(const Json& v, const std::string& path) const {
-    if (!v.is_number()) fail(path, std::string("expected a number, got ") + v.type_name());
-    const double d = v.get<double>();
-    if (!std::isfinite(d) || !std::isfinite(static_cast<float>(d))) fail(path, "not finite");
-    return static_cast<float>(d);
-  }
-  float number(const Json& j, const std::string& path, const char* key) const {
-    return number(field(j, path, key), path + "." + key);
-  }
-  float positive(const Json& j, const std::string& path, const char* key) const {
-    const float v = number(j, path, key);
-    if (!(v > 0)) fail(path + "." + key, "must be > 0, got " + std::to_string(v));
-    return v;
-  }
-  int integer(const Json& j, const std::string& path, const char* key, int lo, int hi) const {
-    const Json& v = field(j, path, key);
-    if (!v.is_number_integer()) fail(path + "." + key, "expected an integer");
-    const auto i = v.get<long long>();
-    if (i < lo || i > hi)
-      fail(path + "." + key, "out of range [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                                 "]: " + std::to_string(i));
-    return static_cast<int>(i);
-  }
-  template <std::size_t K>
-  std::array<float, K> vec(const Json& j, const std::string& path, const char* key) const {
-    const Json& v = field(j, path, key);
-    const std::string p = path + "." + key;
-    if (!v.is_array() || v.size() != K)
-      fail(p, "expected an array of " + std::to_string(K) + " numbers");
-    std::array<float, K> out{};
-    for (std::size_t i = 0; i < K; ++i) out[i] = number(v[i], p + "[" + std::to_string(i) + "]");
-    return out;
-  }
-  glm::vec3 vec3(const Json& j, const std::string& path, const char* key) const {
-    const auto a = vec<3>(j, path, key);
-    return {a[0], a[1], a[2]};
-  }
+// The tune scene's fields (engine/assets/internal json_fields.h), with its own albedo rule:
+// required.
+class Reader : public assets::JsonFields {
+ public:
+  using JsonFields::JsonFields;
   glm::vec3 albedo(const Json& j, const std::string& path) const {
     const glm::vec3 a = vec3(j, path, "albedo");
     for (int k = 0; k < 3; ++k)
       if (!(a[k] >= 0 && a[k] <= 1)) fail(path + ".albedo", "components must lie in [0, 1]");
     return a;
-  }
-  std::string string(const Json& j, const std::string& path, const char* key) const {
-    const Json& v = field(j, path, key);
-    if (!v.is_string())
-      fail(path + "." + key, std::string("expected a string, got ") + v.type_name());
-    return v.get<std::string>();
   }
 };
 

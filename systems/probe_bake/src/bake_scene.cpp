@@ -13,6 +13,7 @@
 #include "penumbra/assets/exr.h"
 #include "penumbra/assets/gltf.h"
 #include "penumbra/assets/heightmap.h"
+#include "penumbra/assets/json_fields.h"
 #include "penumbra/assets/sphere_fit.h"
 
 namespace penumbra::probe_bake {
@@ -20,60 +21,11 @@ namespace {
 
 using Json = nlohmann::json;
 
-class Reader {
+// The bake scene's fields (engine/assets/internal json_fields.h), with its own albedo rule:
+// optional, black when absent.
+class Reader : public assets::JsonFields {
  public:
-  explicit Reader(std::string file) : file_(std::move(file)) {}
-
-  [[noreturn]] void fail(const std::string& path, const std::string& why) const {
-    throw std::runtime_error(file_ + ": " + path + ": " + why);
-  }
-  void only(const Json& j, const std::string& path, std::set<std::string> allowed) const {
-    if (!j.is_object()) fail(path, std::string("expected an object, got ") + j.type_name());
-    for (const auto& [k, v] : j.items())
-      if (!allowed.count(k)) fail(path + "." + k, "unknown field");
-  }
-  const Json& field(const Json& j, const std::string& path, const char* key) const {
-    const auto it = j.find(key);
-    if (it == j.end()) fail(path + "." + key, "missing");
-    return *it;
-  }
-  float number(const Json& v, const std::string& path) const {
-    if (!v.is_number()) fail(path, std::string("expected a number, got ") + v.type_name());
-    const double d = v.get<double>();
-    if (!std::isfinite(d) || !std::isfinite(static_cast<float>(d))) fail(path, "not finite");
-    return static_cast<float>(d);
-  }
-  float number(const Json& j, const std::string& path, const char* key) const {
-    return number(field(j, path, key), path + "." + key);
-  }
-  float number_or(const Json& j, const std::string& path, const char* key, float def) const {
-    return j.contains(key) ? number(j, path, key) : def;
-  }
-  float positive(const Json& j, const std::string& path, const char* key) const {
-    const float v = number(j, path, key);
-    if (!(v > 0)) fail(path + "." + key, "must be > 0, got " + std::to_string(v));
-    return v;
-  }
-  template <int K>
-  std::array<float, K> vec(const Json& j, const std::string& path, const char* key) const {
-    const Json& v = field(j, path, key);
-    const std::string p = path + "." + key;
-    if (!v.is_array() || v.size() != K)
-      fail(p, "expected an array of " + std::to_string(K) + " numbers");
-    std::array<float, K> out{};
-    for (int i = 0; i < K; ++i) out[i] = number(v[i], p + "[" + std::to_string(i) + "]");
-    return out;
-  }
-  glm::vec3 vec3(const Json& j, const std::string& path, const char* key) const {
-    const auto a = vec<3>(j, path, key);
-    return {a[0], a[1], a[2]};
-  }
-  std::string string(const Json& j, const std::string& path, const char* key) const {
-    const Json& v = field(j, path, key);
-    if (!v.is_string())
-      fail(path + "." + key, std::string("expected a string, got ") + v.type_name());
-    return v.get<std::string>();
-  }
+  using JsonFields::JsonFields;
   glm::vec3 albedo(const Json& j, const std::string& path) const {
     if (!j.contains("albedo")) return glm::vec3(0.0f);
     const glm::vec3 a = vec3(j, path, "albedo");
@@ -81,9 +33,6 @@ class Reader {
       if (a[i] < 0 || a[i] > 1) fail(path + ".albedo", "each channel must be in [0, 1]");
     return a;
   }
-
- private:
-  std::string file_;
 };
 
 constexpr float kDeg = 3.14159265358979f / 180.0f;
