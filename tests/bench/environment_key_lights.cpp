@@ -165,6 +165,18 @@ std::vector<glm::vec3> shade_sphere(const SphereCase& c, int n) {
   return e;
 }
 
+// The counters every key-light case reports: its error against the reference, and how many
+// sources were found and taken out.
+void count_errors(benchmark::State& state, const tr::ErrorSummary& err, std::size_t sources,
+                  int n) {
+  state.counters["rel_rms_vs_reference"] = err.rel_rms;
+  state.counters["max_rel_vs_reference"] = err.max_rel;
+  state.counters["reference_rel_se"] = err.ref_rel_se;
+  state.counters["bias_vs_reference"] = err.bias;
+  state.counters["sources_found"] = static_cast<double>(sources);
+  state.counters["key_lights"] = n;
+}
+
 void BM_BlockerKeyLights(benchmark::State& state, std::string map, int n) {
   SphereCase& c = get_sphere(map);
   if (n > static_cast<int>(c.env.sources.size())) {
@@ -179,12 +191,7 @@ void BM_BlockerKeyLights(benchmark::State& state, std::string map, int n) {
   std::vector<std::size_t> all(e.size());
   for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
   const tr::ErrorSummary err = tr::compare(e, all, c.ref);
-  state.counters["rel_rms_vs_reference"] = err.rel_rms;
-  state.counters["max_rel_vs_reference"] = err.max_rel;
-  state.counters["reference_rel_se"] = err.ref_rel_se;
-  state.counters["bias_vs_reference"] = err.bias;
-  state.counters["sources_found"] = static_cast<double>(c.env.sources.size());
-  state.counters["key_lights"] = n;
+  count_errors(state, err, c.env.sources.size(), n);
 }
 
 void BM_TerrainKeyLights(benchmark::State& state, std::string scene, std::string map, int n) {
@@ -199,12 +206,7 @@ void BM_TerrainKeyLights(benchmark::State& state, std::string scene, std::string
     benchmark::DoNotOptimize(e.data());
   }
   const tr::ErrorSummary err = tr::compare(e, c.ref.texels, c.ref.environment);
-  state.counters["rel_rms_vs_reference"] = err.rel_rms;
-  state.counters["max_rel_vs_reference"] = err.max_rel;
-  state.counters["reference_rel_se"] = err.ref_rel_se;
-  state.counters["bias_vs_reference"] = err.bias;
-  state.counters["sources_found"] = static_cast<double>(c.env.sources.size());
-  state.counters["key_lights"] = n;
+  count_errors(state, err, c.env.sources.size(), n);
 }
 
 std::string key(const std::string& scene, const std::string& map, int n) {
