@@ -54,18 +54,29 @@ bool write_atomically(const std::string& path, const std::string& text) {
   return !ec;
 }
 
-std::string chart_svg(const ChartSpec& spec, const std::vector<ChartPoint>& pts) {
-  const double W = 920, H = 600, left = 80, right = 250, top = 50, bottom = 70;
-  const double pw = W - left - right, ph = H - top - bottom;
-  std::ostringstream o;
+namespace {
+
+// Both charts' frame: 920 x 600, the title and subtitle above the plot at x = left.
+constexpr double kWidth = 920, kHeight = 600;
+void svg_open(std::ostringstream& o, const std::string& title, const std::string& subtitle,
+              double left) {
   o.precision(5);
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kWidth << "\" height=\"" << kHeight
+    << "\" viewBox=\"0 0 " << kWidth << " " << kHeight
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
     << "<text x=\"" << left << "\" y=\"24\" font-size=\"15\" font-weight=\"bold\">"
-    << svg_escape(spec.title) << "</text>\n"
-    << "<text x=\"" << left << "\" y=\"40\" fill=\"#555\">" << svg_escape(spec.subtitle)
-    << "</text>\n";
+    << svg_escape(title) << "</text>\n"
+    << "<text x=\"" << left << "\" y=\"40\" fill=\"#555\">" << svg_escape(subtitle) << "</text>\n";
+}
+
+}  // namespace
+
+std::string chart_svg(const ChartSpec& spec, const std::vector<ChartPoint>& pts) {
+  const double W = kWidth, H = kHeight, left = 80, right = 250, top = 50, bottom = 70;
+  const double pw = W - left - right, ph = H - top - bottom;
+  std::ostringstream o;
+  svg_open(o, spec.title, spec.subtitle, left);
   if (pts.empty()) {
     o << "<text x=\"" << left + 20 << "\" y=\"" << top + ph / 2 << "\">"
       << svg_escape(spec.empty_text) << "</text>\n</svg>\n";
@@ -234,17 +245,10 @@ std::string line_chart_svg(const LineChartSpec& spec, const std::vector<LineSeri
     if (s.x.size() != s.y.size())
       throw std::invalid_argument("line_chart_svg: series '" + s.name +
                                   "' has different numbers of x and y values");
-  const double W = 920, H = 600, left = 80, right = 250, top = 50, bottom = 70;
+  const double W = kWidth, H = kHeight, left = 80, right = 250, top = 50, bottom = 70;
   const double pw = W - left - right, ph = H - top - bottom;
   std::ostringstream o;
-  o.precision(5);
-  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H
-    << "\" viewBox=\"0 0 " << W << " " << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n"
-    << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    << "<text x=\"" << left << "\" y=\"24\" font-size=\"15\" font-weight=\"bold\">"
-    << svg_escape(spec.title) << "</text>\n"
-    << "<text x=\"" << left << "\" y=\"40\" fill=\"#555\">" << svg_escape(spec.subtitle)
-    << "</text>\n";
+  svg_open(o, spec.title, spec.subtitle, left);
   double ymax_data = 0;
   std::size_t points = 0;
   for (const LineSeries& s : series) {
