@@ -138,7 +138,8 @@ const std::vector<TexelRect>& EnvironmentRefresh::plan(const EnvironmentPose& po
   stats_.worst_deferred = 0.0f;
   if (tiles_.empty()) return rects_;
   const bool settle = has_last_pose_ && same_pose(pose, last_pose_);
-  std::vector<std::pair<float, std::size_t>> stale;
+  std::vector<std::pair<float, std::size_t>>& stale = candidates_;  // kept: no allocation a frame
+  stale.clear();
   for (std::size_t i = 0; i < tiles_.size(); ++i) {
     const float b = bound_over_threshold(i, pose);
     if (b > 1.0f) {

@@ -29,6 +29,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -117,6 +118,7 @@ class EnvironmentRefresh {
   EnvironmentPose last_pose_;
   bool has_last_pose_ = false;
   std::vector<std::size_t> planned_;
+  std::vector<std::pair<float, std::size_t>> candidates_;  // plan(): stale tiles, bound
   std::vector<TexelRect> rects_;
   EnvironmentRefreshStats stats_;
 };
