@@ -37,6 +37,8 @@ TEST(PlayRecord, JsonHoldsTheRunAndIgnoresBrokenSplits) {
   r.gpu_timed_frames = 40;
   r.terrain_triangles = 1234;
   r.lavapipe_threads = "2";
+  r.environment_tiles_per_frame = 74.5;
+  r.environment_stale_per_frame = 289.0;
   r.systems = {{"terrain_shadow.lights", 1.5, 3.0, true, 2.0, 398.0}, {"motion", 0.1, 0.2}};
   PlayRecord child = r;
   child.sim_threads = 1;
@@ -50,6 +52,8 @@ TEST(PlayRecord, JsonHoldsTheRunAndIgnoresBrokenSplits) {
   EXPECT_EQ(j["run"]["gpu_timed_frames"], 40);
   EXPECT_EQ(j["terrain"]["triangles"], 1234);
   EXPECT_EQ(j["threads"]["lavapipe"], "2");
+  EXPECT_DOUBLE_EQ(j["environment"]["tiles_per_frame"].get<double>(), 74.5);
+  EXPECT_DOUBLE_EQ(j["environment"]["stale_per_frame"].get<double>(), 289.0);
   ASSERT_EQ(j["systems"].size(), 2u);
   EXPECT_EQ(j["systems"][0]["name"], "terrain_shadow.lights");
   EXPECT_DOUBLE_EQ(j["systems"][0]["skipped_per_frame"].get<double>(), 398.0);
