@@ -7,7 +7,12 @@
 namespace penumbra::play {
 
 struct Options {
-  std::string scene = "terrain";  // "terrain": the DEM demo (terrain_demo.h); "sample": particles
+  // "valley": the game (valley_game.h); "terrain": the DEM demo (terrain_demo.h); "sample":
+  // particles.
+  std::string scene = "valley";
+  std::string input;      // valley: replay this recording (headless default: the committed one)
+  std::string record;     // valley: write the session's input here at the end
+  bool autopilot = false;  // valley: the scripted player (valley_autopilot.h) plays
   std::string data;               // ../shared/data when empty
   int frames = 0;                 // 0: 300 headless, until the window closes otherwise
   int threads = 0;

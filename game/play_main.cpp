@@ -1,7 +1,8 @@
 // The main job: the terrain demo (or the sample world) through the job graph and the Vulkan
 // renderer.
 //
-//   penumbra_play [--scene terrain|sample] [--data DIR] [--frames N] [--threads T] [--particles N]
+//   penumbra_play [--scene valley|terrain|sample] [--input FILE] [--record FILE] [--autopilot]
+//                 [--data DIR] [--frames N] [--threads T] [--particles N]
 //   [--trace FILE] [--dot FILE]
 //                 [--out DIR] [--screenshots K] [--headless] [--no-render] [--validation]
 //                 [--device NAME] [--size WxH] [--points N] [--boulders N] [--boulder-detail E]
@@ -14,7 +15,11 @@
 // --settings FILE: a tuned settings file (./penumbra tune, docs/tune.md) applied to the systems'
 // settings resources and the demo (terrain horizons and azimuths, blocker epsilon, spheres per
 // boulder, probes per side); a bad file is an error naming it and the reason (exit 1).
-// --scene terrain (default): the elevation model lit by the terrain shadow system under a
+// --scene valley (default): the game (valley_game.h, docs/game.md). Headless it replays a
+// recorded session (--input FILE; default game/sessions/dusk_run.pinput) to its end, or lets
+// the scripted player play (--autopilot) until the round ends; --record FILE writes the
+// session's input (window, autopilot or replay) as a recording. In a window the devices drive it.
+// --scene terrain: the elevation model lit by the terrain shadow system under a
 // rotating HDR sky, a moving spherical light and periodic brush edits (terrain_demo.h);
 // --scene sample: the particle sample world. --data DIR overrides ../shared/data.
 // With a display ($DISPLAY / $WAYLAND_DISPLAY) and no --headless: a window with the ImGui
@@ -45,6 +50,7 @@
 #include <exception>
 #include <string>
 
+#include "penumbra/assets/load_error.h"
 #include "penumbra/render/window.h"
 #include "penumbra/settings/tuned_settings.h"
 #include "play.h"
@@ -55,7 +61,8 @@ using penumbra::play::Options;
 [[noreturn]] void usage(const char* error) {
   std::fprintf(
       stderr,
-      "penumbra_play: %s\nusage: penumbra_play [--scene terrain|sample] [--data DIR] "
+      "penumbra_play: %s\nusage: penumbra_play [--scene valley|terrain|sample] [--input FILE] "
+      "[--record FILE] [--autopilot] [--data DIR] "
       "[--frames N] [--threads T] "
       "[--particles N] [--trace FILE] [--dot FILE] [--out DIR] [--screenshots K] "
       "[--headless] [--no-render] [--validation] [--device NAME] [--size WxH] "
@@ -87,9 +94,15 @@ Options parse(int argc, char** argv) {
     };
     if (a == "--scene") {
       o.scene = value();
-      if (o.scene != "terrain" && o.scene != "sample")
-        usage(("--scene needs terrain or sample, got '" + o.scene + "'").c_str());
-    } else if (a == "--data")
+      if (o.scene != "valley" && o.scene != "terrain" && o.scene != "sample")
+        usage(("--scene needs valley, terrain or sample, got '" + o.scene + "'").c_str());
+    } else if (a == "--input")
+      o.input = value();
+    else if (a == "--record")
+      o.record = value();
+    else if (a == "--autopilot")
+      o.autopilot = true;
+    else if (a == "--data")
       o.data = value();
     else if (a == "--frames")
       o.frames = static_cast<int>(number(1));
@@ -188,6 +201,9 @@ int main(int argc, char** argv) {
     if (!opt.render) return play::run_simulation_only(opt);
     if (!opt.headless && render::Glfw::display_available()) return play::run_window(opt);
     return play::run_headless(opt);
+  } catch (const assets::LoadError& e) {  // a bad input file: its name and the reason
+    std::fprintf(stderr, "penumbra_play: %s\n", e.what());
+    return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "penumbra_play: %s\n", e.what());
     if (opt.render)

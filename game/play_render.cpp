@@ -19,6 +19,7 @@
 #include "penumbra/game/sample_render.h"
 #include "penumbra/game/sample_world.h"
 #include "penumbra/game/terrain_demo.h"
+#include "penumbra/game/valley_game.h"
 #include "penumbra/jobs/executor.h"
 #include "penumbra/jobs/frame_report.h"
 #include "penumbra/render/image.h"
@@ -33,6 +34,7 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
 #include "play.h"
 #include "play_record.h"
+#include "play_valley.h"
 #include "tune/apply_settings.h"
 
 namespace penumbra::play {
@@ -61,10 +63,12 @@ struct Sim {
   std::vector<jobs::FrameStats> traced;
   const Options& options;
   int warmup = 0;
+  std::unique_ptr<ValleySession> valley;  // --scene valley
 
-  Sim(const Options& o, bool with_render) : executor(o.threads), options(o) {
+  Sim(const Options& o, bool with_render, bool window = false) : executor(o.threads), options(o) {
     executor.set_trace_tasks(!o.trace.empty());
-    if (o.scene == "terrain") {
+    if (o.scene == "terrain" || o.scene == "valley") {
+      const bool game = o.scene == "valley";
       game::TerrainDemoConfig demo;
       demo.data_dir = o.data;
       if (o.light_budget > 0) demo.light_refresh.budget = o.light_budget;
@@ -80,7 +84,13 @@ struct Sim {
       std::optional<tune::SystemSettings> tuned;
       if (!o.settings.empty()) tuned = tune::load_system_settings(o.settings);
       if (tuned) tune::apply_to_demo(*tuned, demo.shadow, demo.boulders.spheres, demo.probes.grid);
+      if (game) demo = game::valley_world(demo);  // the game's lights, edits and camera
       game::populate_terrain_demo(world, demo);
+      if (game) {
+        game::populate_valley(world);
+        valley = std::make_unique<ValleySession>(world, o, window);
+        world.resource<game::HorizonProbe>().enabled = false;  // the horizon fan: demo only
+      }
       if (tuned) tune::apply_to_world(*tuned, world);
       world.resource<game::HorizonProbe>().aspect =
           static_cast<float>(o.width) / static_cast<float>(o.height);
@@ -110,7 +120,8 @@ struct Sim {
   // The turning environment's re-shading (environment_refresh.h), over the same frames.
   std::size_t environment_tiles_total = 0, environment_stale_total = 0;
 
-  const jobs::FrameStats& step(int frame, int frames) {
+  const jobs::FrameStats& step(int frame, int frames, GLFWwindow* window = nullptr) {
+    if (valley) valley->before_step(world, static_cast<std::uint64_t>(frame), window);
     const jobs::FrameStats& stats = executor.run(schedule, world);
     if (frame >= warmup) {
       table.add(stats);
@@ -136,8 +147,10 @@ struct Sim {
   // Prints the CPU table, writes the trace and the graph; false when a file cannot be written.
   bool report(int frames, const char* what) {
     std::printf("penumbra: %s, %zu entities, %d frames (%d warm-up), %d threads%s\n",
-                options.scene == "terrain" ? "terrain demo" : "sample world", world.size(), frames,
-                warmup, executor.threads(), what);
+                options.scene == "valley"    ? "valley game"
+                : options.scene == "terrain" ? "terrain demo"
+                                             : "sample world",
+                world.size(), frames, warmup, executor.threads(), what);
     if (const auto* bake = world.try_resource<game::ProbeSkyBake>(); bake && bake->bakes > 0)
       if (const auto* cloud = world.try_resource<components::ProbeCloudResource>();
           cloud && cloud->cloud)
@@ -262,12 +275,25 @@ int default_lavapipe_threads() {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
+// Frames of a headless run: --frames, else a replay's length, the autopilot's cap, or 300.
+int headless_frames(const Options& o, const Sim& sim) {
+  if (o.frames > 0) return o.frames;
+  if (sim.valley && sim.valley->replay_steps() > 0)
+    return static_cast<int>(sim.valley->replay_steps());
+  return sim.valley ? kAutopilotFrameCap : 300;
+}
+
 int run_simulation_only(const Options& o) {
   Sim sim(o, /*with_render=*/false);
-  const int frames = o.frames > 0 ? o.frames : 300;
+  int frames = headless_frames(o, sim);
   sim.warmup = frames > 10 ? 5 : 0;
-  for (int f = 0; f < frames; ++f) sim.step(f, frames);
-  return sim.report(frames, ", no renderer") ? 0 : 1;
+  for (int f = 0; f < frames; ++f) {
+    sim.step(f, frames);
+    if (sim.valley && sim.valley->finished(static_cast<std::uint64_t>(f))) frames = f + 1;
+  }
+  if (!sim.report(frames, ", no renderer")) return 1;
+  if (sim.valley) sim.valley->finish(sim.world);
+  return 0;
 }
 
 int run_headless(const Options& o) {
@@ -277,7 +303,7 @@ int run_headless(const Options& o) {
     record.splits = run_splits(o);
   }
   Sim sim(o, /*with_render=*/true);
-  const int frames = o.frames > 0 ? o.frames : 300;
+  int frames = headless_frames(o, sim);
   sim.warmup = frames > 10 ? 5 : 0;
   render::Instance instance(instance_config(o));
   render::DeviceConfig dc;
@@ -335,6 +361,7 @@ int run_headless(const Options& o) {
       samples.push_back({ms_since(t0), t_sim, ms_since(t1)});
       triangles += static_cast<double>(renderer.stats().terrain_triangles);
     }
+    if (sim.valley && sim.valley->finished(static_cast<std::uint64_t>(f))) frames = f + 1;
   }
   renderer.wait_idle();
   if (!o.bench.empty()) {
@@ -376,6 +403,7 @@ int run_headless(const Options& o) {
         sim.light_observed ? 100.0 * sim.light_visible / sim.light_observed : 0.0,
         100.0 * sim.light_worst_observed);
   for (const std::string& p : written) std::printf("screenshot: %s\n", p.c_str());
+  if (sim.valley) sim.valley->finish(sim.world);
   if (instance.validation()) std::printf("validation: %s\n", instance.messages().summary().c_str());
   if (!o.bench.empty()) {
     record.scene = o.scene;
@@ -424,7 +452,7 @@ int run_headless(const Options& o) {
 }
 
 int run_window(const Options& o) {
-  Sim sim(o, /*with_render=*/true);
+  Sim sim(o, /*with_render=*/true, /*window=*/true);
   sim.warmup = 5;
   render::Glfw glfw;
   render::InstanceConfig ic = instance_config(o);
@@ -452,7 +480,7 @@ int run_window(const Options& o) {
     window.poll_events();
     if (window.escape_pressed()) window.request_close();
     // P toggles the probe cloud's debug views (probe_demo.h), on the key's press.
-    const bool p_down = glfwGetKey(window.glfw(), GLFW_KEY_P) == GLFW_PRESS;
+    const bool p_down = !sim.valley && glfwGetKey(window.glfw(), GLFW_KEY_P) == GLFW_PRESS;
     if (p_down && !p_was_down)
       if (auto* view = sim.world.try_resource<game::ProbeDebugView>())
         view->enabled = !view->enabled;
@@ -468,6 +496,7 @@ int run_window(const Options& o) {
     if (c_down && !c_was_down && cam) cam->follow_pair = !cam->follow_pair;
     c_was_down = c_down;
     stats.lines.clear();
+    if (sim.valley) stats.lines = sim.valley->hud(sim.world);
     if (sl)
       stats.lines.push_back(std::string("I: indirect light ") + (sl->indirect ? "on" : "off"));
     if (cam)
@@ -487,7 +516,7 @@ int run_window(const Options& o) {
     }
     if (f == sim.warmup) renderer.pass_table().clear();
     const auto t0 = Clock::now();
-    const jobs::FrameStats& frame = sim.step(f, o.frames);
+    const jobs::FrameStats& frame = sim.step(f, o.frames, window.glfw());
     const double t_sim = ms_since(t0);
     stats.frame_ms = std::chrono::duration<double, std::milli>(t0 - last).count();
     last = t0;
@@ -518,6 +547,7 @@ int run_window(const Options& o) {
   renderer.wait_idle();
   const std::string what = ", renderer: " + device.name() + " window";
   if (!sim.report(f, what.c_str())) return 1;
+  if (sim.valley) sim.valley->finish(sim.world);
   renderer.pass_table().print(std::cout);
   print_frame_summary(samples, sim.executor.threads());
   if (!shot.empty()) std::printf("screenshot: %s\n", shot.c_str());

@@ -72,9 +72,10 @@ void animate(ecs::World& w, const TerrainDemoConfig& config) {
     // The light circles a third of the way out, 400 m above the ground under it.
     const float a = 0.15f * t;
     const glm::vec2 xy = 0.3f * extent * glm::vec2(std::cos(a), std::sin(a));
-    w.query<SphericalLight>().each([&](SphericalLight& l) {
-      l.position = glm::vec3(xy, terrain_height_at(terrain, xy) + 400.0f);
-    });
+    if (config.circling_light)
+      w.query<SphericalLight>().each([&](SphericalLight& l) {
+        l.position = glm::vec3(xy, terrain_height_at(terrain, xy) + 400.0f);
+      });
     // A brush edit every edit_interval seconds, crater and raise alternating, just behind the
     // light so its shadows change where the eye already is.
     if (config.edit_interval > 0) {
@@ -239,8 +240,9 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   ProbeDemoConfig probes = config.probes;
   probes.sky_turns = config.sky_rotation_speed != 0;  // bake only the first step otherwise
   populate_probe_demo(world, dir.string(), map, probes);
-  world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
-                    DebugSphere{});
+  if (config.circling_light)
+    world.create_with(SphericalLight{{0.0f, 0.0f, 1000.0f}, 350.0f, {50.0f, 36.0f, 18.0f}},
+                      DebugSphere{});
 }
 
 void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config) {
@@ -254,11 +256,13 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
       .reads<FrameTime>()
       .writes<EnvironmentLight, SphericalLight, Terrain, systems::RenderSettings>();
   if (config.environment_sources > 0) environment::add_environment_systems(s);
-  s.add_task("demo_camera", [](jobs::SystemContext& ctx) { orbit(ctx.world()); })
-      .reads<FrameTime, Terrain, DemoCameraMode, Boulder, components::Transform,
-             components::Reflector>()
-      .writes<Camera>();
+  if (config.orbit_camera)
+    s.add_task("demo_camera", [](jobs::SystemContext& ctx) { orbit(ctx.world()); })
+        .reads<FrameTime, Terrain, DemoCameraMode, Boulder, components::Transform,
+               components::Reflector>()
+        .writes<Camera>();
   add_boulder_systems(s);
+  if (config.gameplay) config.gameplay(s);
   add_probe_demo_systems(s);
   terrain_shadow::add_terrain_shadow_systems(s);
   blocker_accumulation::add_blocker_systems(s);

@@ -11,7 +11,9 @@
 //                     (path), Terrain (brush edits), RenderSettings (sky rotation)
 //   environment.sources (systems/environment: the map's sun found on the first frame, when
 //                     environment_sources > 0; the terrain and the boulders take it as a key light)
-//   demo_camera       reads FrameTime, Terrain, writes Camera (slow orbit)
+//   demo_camera       reads FrameTime, Terrain, writes Camera (slow orbit; not with orbit_camera
+//                     off: the valley game's camera takes its place)
+//   (gameplay)        TerrainDemoConfig::gameplay's systems (valley_game.h), when set
 //   demo_boulders     reads FrameTime, Terrain, Boulder, writes Transform (boulders.h)
 //   demo_probe_floaters, demo_probe_sky, probes.prepare, probes.walk, demo_probe_shade,
 //   demo_probe_debug  (probe_demo.h: floating objects lit by the probe cloud over the terrain,
@@ -26,6 +28,7 @@
 //   render_extract    (systems/render_extract: the packet's only writer)
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include <glm/vec2.hpp>
@@ -40,7 +43,7 @@
 namespace penumbra::game {
 
 struct TerrainDemoConfig {
-  std::string data_dir;                  // ../shared/data; empty: PENUMBRA_SHARED_DATA
+  std::string data_dir;                     // ../shared/data; empty: PENUMBRA_SHARED_DATA
   std::string environment = "sunrise.exr";  // in data_dir/hdri: a low sun, so shadows are long
   // Bright sources to find in the map (systems/environment) and shade as the terrain's key
   // lights; 0: the map as SH alone.
@@ -52,8 +55,13 @@ struct TerrainDemoConfig {
   terrain_shadow::TerrainShadowConfig shadow{};
   terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
   BoulderConfig boulders{};                            // rolling blockers (boulders.h)
-  ProbeDemoConfig probes{};  // the probe cloud and the objects it lights (probe_demo.h)
-  bool follow_pair = false;  // start with the camera on the red-and-white boulder pair
+  ProbeDemoConfig probes{};    // the probe cloud and the objects it lights (probe_demo.h)
+  bool follow_pair = false;    // start with the camera on the red-and-white boulder pair
+  bool circling_light = true;  // the demo's spherical light circling over the valley
+  bool orbit_camera = true;    // demo_camera; false: another system writes Camera
+  // Systems of a game played in this world (valley_game.h), scheduled after the demo's clock,
+  // animation and boulders and before the lighting, so the lights shade this step's moves.
+  std::function<void(jobs::Schedule&)> gameplay;
 };
 
 // Resource: what the demo's camera does: orbit the whole terrain, or follow the colour-bleeding

@@ -1,0 +1,261 @@
+#include "penumbra/game/valley_game.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+
+#include "penumbra/components/camera.h"
+#include "penumbra/components/debug_shapes.h"
+#include "penumbra/components/frame_time.h"
+#include "penumbra/components/spherical_light.h"
+#include "penumbra/components/terrain.h"
+#include "penumbra/components/transform.h"
+#include "penumbra/data/height_field.h"
+#include "penumbra/game/boulders.h"
+#include "penumbra/game/valley_rules.h"
+#include "penumbra/systems/terrain_shadow/terrain_edit.h"
+
+namespace penumbra::game {
+namespace {
+
+using components::Camera;
+using components::FrameTime;
+using components::SphericalLight;
+using components::Terrain;
+
+const Terrain* find_terrain(ecs::World& w) {
+  const Terrain* found = nullptr;
+  w.query<const Terrain>().each([&](const Terrain& t) {
+    if (!found && t.heights) found = &t;
+  });
+  return found;
+}
+
+float wrap_angle(float a) {
+  return std::remainder(a, 2 * std::numbers::pi_v<float>);
+}
+
+// The orb's light centre: on the ground, one radius up.
+glm::vec3 orb_centre(const Terrain& t, const Orb& orb, const ValleyConfig& c) {
+  return glm::vec3(orb.position, ground_height(t, orb.position) + c.orb_radius);
+}
+
+// A new round: orb home and at rest, beacons dark, the ground as it was, timer and score reset.
+void start_round(ecs::World& w, GameState& g, const ValleyConfig& c) {
+  Terrain* terrain = nullptr;
+  w.query<Terrain>().each([&](Terrain& t) {
+    if (!terrain && t.heights) terrain = &t;
+  });
+  const ValleyGround* ground = w.try_resource<const ValleyGround>();
+  if (terrain && ground && ground->heights && terrain->heights != ground->heights) {
+    terrain->heights = ground->heights;
+    ++terrain->version;
+    terrain->edited = {0, 0, ground->heights->width, ground->heights->height};
+  }
+  w.query<Orb, SphericalLight>().each([&](Orb& orb, SphericalLight& light) {
+    orb.position = orb.start;
+    orb.velocity = glm::vec2(0.0f);
+    if (terrain) light.position = orb_centre(*terrain, orb, c);
+  });
+  w.query<Beacon, SphericalLight>().each([&](Beacon& b, SphericalLight& light) {
+    b.lit = false;
+    light.position = b.position;
+    light.radius = 0.0f;  // no light until lit
+  });
+  const std::uint64_t rounds = static_cast<std::uint64_t>(g.rounds) + 1;
+  g = GameState{};
+  g.rounds = static_cast<int>(rounds);
+  g.phase = GamePhase::kPlaying;
+  g.time_left = c.time_limit;
+  w.query<const Beacon>().each([&](const Beacon&) { ++g.beacons_total; });
+  // Facing the valley's centre from the start.
+  w.query<const Orb>().each([&](const Orb& orb) {
+    if (glm::length(orb.start) > 1.0f) g.heading = std::atan2(-orb.start.y, -orb.start.x);
+  });
+}
+
+void rules(ecs::World& w, const ValleyConfig& c) {
+  GameState& g = w.resource<GameState>();
+  const GameInput in = w.resource<const GameInput>();
+  const float dt = w.resource<const FrameTime>().dt;
+  const PhaseChange change = next_phase(g.phase, in);
+  if (change.new_round) start_round(w, g, c);
+  g.phase = change.phase;
+  if (g.phase != GamePhase::kPlaying) return;
+  ++g.steps;
+  g.heading = wrap_angle(g.heading + c.turn_speed * in.turn_rate() * dt);
+
+  Terrain* terrain = nullptr;
+  w.query<Terrain>().each([&](Terrain& t) {
+    if (!terrain && t.heights) terrain = &t;
+  });
+  if (!terrain) return;
+  std::vector<Obstacle> obstacles;
+  w.query<const Boulder, const components::Transform>().each(
+      [&](const Boulder& b, const components::Transform& x) {
+        const glm::vec3 centre = glm::vec3(x.world * glm::vec4(b.model_centre, 1.0f));
+        obstacles.push_back({glm::vec2(centre), b.radius});
+      });
+
+  glm::vec3 orb_at(0.0f);
+  bool have_orb = false;
+  w.query<Orb, SphericalLight>().each([&](Orb& orb, SphericalLight& light) {
+    g.blocked = step_orb(orb, *terrain, in, g.heading, dt, c, obstacles);
+    light.position = orb_at = orb_centre(*terrain, orb, c);
+    have_orb = true;
+  });
+  if (!have_orb) return;
+
+  // Digging and raising under the orb: one brush per edit_interval while held.
+  g.edit_wait = std::max(0.0f, g.edit_wait - dt);
+  const bool dig = in.held(kButtonDig), raise = in.held(kButtonRaise);
+  if ((dig != raise) && g.edit_wait <= 0.0f && g.edits < c.max_edits) {
+    terrain_shadow::Brush b;
+    b.kind = dig ? terrain_shadow::BrushKind::kCrater : terrain_shadow::BrushKind::kRaise;
+    b.centre = glm::vec2(orb_at);
+    b.radius = c.edit_radius;
+    b.strength = c.edit_strength;
+    if (terrain_shadow::apply_brush(*terrain, b)) ++g.edits;
+    g.edit_wait = c.edit_interval;
+  }
+
+  // Beacons within reach light up.
+  w.query<Beacon, SphericalLight>().each([&](Beacon& b, SphericalLight& light) {
+    if (b.lit || !(glm::distance(glm::vec2(b.position), glm::vec2(orb_at)) <= c.beacon_reach))
+      return;
+    b.lit = true;
+    light.radius = c.beacon_radius;
+    light.radiance = c.beacon_radiance;
+    ++g.beacons_lit;
+    g.score += beacon_points(g.time_left);
+  });
+
+  g.time_left = std::max(0.0f, g.time_left - dt);
+  if (g.beacons_total > 0 && g.beacons_lit == g.beacons_total) {
+    g.score += win_bonus(g.time_left);
+    g.phase = GamePhase::kWon;
+  } else if (g.time_left <= 0.0f) {
+    g.phase = GamePhase::kLost;
+  }
+}
+
+// Behind the orb along the heading, looking a little ahead of it.
+void follow(ecs::World& w) {
+  const GameState& g = w.resource<const GameState>();
+  const Terrain* terrain = find_terrain(w);
+  Camera& cam = w.resource<Camera>();
+  w.query<const Orb, const SphericalLight>().each([&](const Orb&, const SphericalLight& light) {
+    const glm::vec3 fwd(std::cos(g.heading), std::sin(g.heading), 0.0f);
+    glm::vec3 eye = light.position - 2600.0f * fwd + glm::vec3(0, 0, 1300.0f);
+    if (terrain) eye.z = std::max(eye.z, ground_height(*terrain, glm::vec2(eye)) + 400.0f);
+    cam.position = eye;
+    cam.target = light.position + 900.0f * fwd;
+    cam.vertical_fov = 0.9f;
+    cam.near_plane = 10.0f;
+    cam.far_plane = 60000.0f;
+  });
+}
+
+// What the renderer shows of the orb and the beacons (wire spheres): the orb in its light's
+// colour; a beacon dim until lit, then bright.
+void markers(ecs::World& w, const ValleyConfig& c) {
+  auto tone = [](glm::vec3 radiance, float gain) {
+    return gain * radiance / std::max({radiance.x, radiance.y, radiance.z, 1e-6f});
+  };
+  w.query<const Orb, const SphericalLight, components::DebugSphere>().each(
+      [&](const Orb&, const SphericalLight& l, components::DebugSphere& s) {
+        s = {l.position, l.radius, tone(l.radiance, 6.0f)};
+      });
+  w.query<const Beacon, components::DebugSphere>().each(
+      [&](const Beacon& b, components::DebugSphere& s) {
+        s = {b.position, c.beacon_radius, tone(c.beacon_radiance, b.lit ? 6.0f : 0.6f)};
+      });
+}
+
+void check(bool ok, const char* field) {
+  if (!ok) throw std::invalid_argument(std::string("valley game config: ") + field);
+}
+
+}  // namespace
+
+const char* phase_name(GamePhase p) {
+  switch (p) {
+    case GamePhase::kTitle:
+      return "title";
+    case GamePhase::kPlaying:
+      return "playing";
+    case GamePhase::kPaused:
+      return "paused";
+    case GamePhase::kWon:
+      return "won";
+    case GamePhase::kLost:
+      return "lost";
+  }
+  return "?";
+}
+
+TerrainDemoConfig valley_world(TerrainDemoConfig demo, const ValleyConfig& config) {
+  demo.circling_light = demo.orbit_camera = false;
+  demo.edit_interval = 0;
+  demo.gameplay = [config](jobs::Schedule& s) { add_valley_systems(s, config); };
+  return demo;
+}
+
+void populate_valley(ecs::World& world, const ValleyConfig& c) {
+  check(c.beacons >= 1 && c.beacons <= 64, "beacons must be in [1, 64]");
+  check(c.time_limit > 0 && std::isfinite(c.time_limit), "time_limit must be > 0");
+  check(c.orb_radius > 0 && c.beacon_radius > 0 && c.beacon_reach > 0 && c.edit_radius > 0,
+        "orb_radius, beacon_radius, beacon_reach and edit_radius must be > 0");
+  check(
+      c.beacon_ring_min >= 0 && c.beacon_ring_min <= c.beacon_ring_max && c.beacon_ring_max < 0.5f,
+      "beacon ring must satisfy 0 <= min <= max < 0.5");
+  const Terrain* terrain = find_terrain(world);
+  if (!terrain) throw std::invalid_argument("valley game: the world has no terrain with heights");
+  const Terrain t = *terrain;  // the query's pointer does not outlive the entities added below
+
+  world.emplace_resource<GameState>();
+  world.emplace_resource<GameInput>();
+  world.emplace_resource<ValleyGround>(ValleyGround{t.heights});
+  if (!world.try_resource<Camera>()) world.emplace_resource<Camera>();
+
+  const data::HeightField& f = *t.heights;
+  const glm::vec2 centre =
+      glm::vec2(t.origin) + 0.5f * f.cell_size * glm::vec2(f.width - 1, f.height - 1);
+  Orb orb;
+  orb.start = orb.position = centre;
+  world.create_with(orb, SphericalLight{orb_centre(t, orb, c), c.orb_radius, c.orb_radiance},
+                    components::DebugSphere{});
+  for (const glm::vec2 site : beacon_sites(t, c)) {
+    const glm::vec3 at(site, ground_height(t, site) + 1.2f * c.beacon_radius);
+    world.create_with(Beacon{at, false}, SphericalLight{at, 0.0f, c.beacon_radiance},
+                      components::DebugSphere{});
+  }
+  world.resource<GameState>().beacons_total = c.beacons;
+}
+
+void add_valley_systems(jobs::Schedule& s, const ValleyConfig& config) {
+  s.add_task("game_input", [](jobs::SystemContext& ctx) {
+     ecs::World& w = ctx.world();
+     InputPlayback* p = w.try_resource<InputPlayback>();
+     if (!p) return;  // live input: the window wrote GameInput
+     GameInput& in = w.resource<GameInput>();
+     in = p->next < p->recording.steps.size() ? p->recording.steps[p->next] : GameInput{};
+     ++p->next;
+   }).writes<InputPlayback, GameInput>();
+  s.add_task("game_rules", [config](jobs::SystemContext& ctx) { rules(ctx.world(), config); })
+      .reads<FrameTime, GameInput, ValleyGround, Boulder, components::Transform>()
+      .writes<GameState, Orb, Beacon, SphericalLight, Terrain>();
+  s.add_task("game_markers", [config](jobs::SystemContext& ctx) { markers(ctx.world(), config); })
+      .reads<Orb, Beacon, SphericalLight>()
+      .writes<components::DebugSphere>();
+  s.add_task("game_camera", [](jobs::SystemContext& ctx) { follow(ctx.world()); })
+      .reads<GameState, Orb, SphericalLight, Terrain>()
+      .writes<Camera>();
+}
+
+}  // namespace penumbra::game
