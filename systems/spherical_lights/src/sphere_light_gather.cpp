@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -26,18 +28,6 @@ float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);
   return x * x * (3 - 2 * x);
 }
-
-// One SL as the receiver sees it (after the plane rule).
-struct View {
-  blocker_accumulation::BlockerView v;   // as a blocker (the plane rule)
-  blocker_accumulation::BlockerView ev;  // as an emitter (EmitterHorizon)
-  float ecos;                            // sqrt(1 - ev.sin_angle^2)
-  float cos_angle;                       // sqrt(1 - sin_angle^2)
-  float angle;  // asin(sin_angle), computed when first needed (< 0: not yet)
-  float key0;   // order: object distance (kPerObject) or 0
-  float key1;   // centre distance
-  std::uint32_t light;
-};
 
 // The SL (c, r) as an emitter seen from p with unit normal n under EmitterHorizon::kClip
 // (sphere_light_gather.h): the whole sphere from 1.25 radii out, the plane rule's sphere inside
@@ -67,11 +57,6 @@ blocker_accumulation::BlockerView emitter_view(const glm::vec3& p, const glm::ve
   return v;
 }
 
-float angle_of(View& v) {
-  if (v.angle < 0) v.angle = std::asin(std::min(v.v.sin_angle, 1.0f));
-  return v.angle;
-}
-
 // sum_l k_l z_l P_l(x): the dot of two zonal functions turned to directions at cosine x
 // (addition theorem with rotate_zh's sqrt(4 pi / (2l + 1)) normalisation).
 template <int N>
@@ -87,6 +72,28 @@ float zonal_dot(const sh::Zonal<N>& k, const sh::Zonal<N>& z, float x) {
 }
 
 }  // namespace
+
+// One SL as the receiver sees it (after the plane rule).
+template <int N>
+struct SphereLightGather<N>::View {
+  blocker_accumulation::BlockerView v;   // as a blocker (the plane rule)
+  blocker_accumulation::BlockerView ev;  // as an emitter (EmitterHorizon)
+  float ecos;                            // sqrt(1 - ev.sin_angle^2)
+  float cos_angle;                       // sqrt(1 - sin_angle^2)
+  float angle;  // asin(sin_angle), computed when first needed (< 0: not yet)
+  float key0;   // order: object distance (kPerObject) or 0
+  float key1;   // centre distance
+  std::uint32_t light;
+  // As an emitter, when `ready` (the lanes of shade_cluster): eq. 18's L~ (clamped at 0), the
+  // cosine of its axis with the normal and the unblocked cap integral; else computed when shaded.
+  bool ready;
+  glm::vec3 radiance;
+  float cos_n, unblocked;
+  float angle_of() {
+    if (angle < 0) angle = std::asin(std::min(v.sin_angle, 1.0f));
+    return angle;
+  }
+};
 
 template <int N>
 SphereLightGather<N>::SphereLightGather(const SphereLightSettings& settings)
@@ -183,11 +190,10 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
                                          float min_sin, const std::uint8_t* consider) const {
   blocker_accumulation::SphereBlockerSettings blocker = settings_.blocker;
   blocker.min_sin = min_sin;
-  constexpr int kStack = 128;
-  View stack[kStack];
-  thread_local std::vector<View> heap;
-  View* views = stack;
-  if (lights_.size() > kStack) heap.resize(lights_.size()), views = heap.data();
+  // Scratch kept per thread: a local array would be constructed (zeroed) at every receiver.
+  thread_local std::vector<View> scratch;
+  if (scratch.size() < lights_.size()) scratch.resize(lights_.size());
+  View* views = scratch.data();
   int count = 0;
   const bool per_object = settings_.blocking == SlBlocking::kPerObject;
   const bool clip = settings_.horizon == EmitterHorizon::kClip;
@@ -220,13 +226,22 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
                         -1.0f,
                         key0,
                         d,
-                        i};
+                        i,
+                        false,
+                        glm::vec3(0.0f),
+                        0.0f,
+                        0.0f};
     }
   }
-  if (counts) {
-    counts->views += static_cast<std::size_t>(count);
-    counts->lights += looked;
-  }
+  if (counts) counts->lights += looked;
+  return shade_views(n, views, count, counts, skip, ratio_out);
+}
+
+template <int N>
+glm::vec3 SphereLightGather<N>::shade_views(const glm::vec3& n, View* views, int count,
+                                            Counts* counts, const std::uint8_t* skip,
+                                            glm::vec3* ratio_out) const {
+  if (counts) counts->views += static_cast<std::size_t>(count);
   // [Guerrero08] sec. 7.2 / 8.3: front to back, by sphere or by object then sphere.
   std::sort(views, views + count, [](const View& a, const View& b) {
     return a.key0 != b.key0 ? a.key0 < b.key0 : a.key1 < b.key1;
@@ -250,14 +265,18 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
     const SphereLightSource<N>& li = lights_[e.light];
     if (!emits_[e.light] || (skip && skip[e.light])) continue;
     if (counts) ++counts->emitters;
-    // [Guerrero08] eq. 18, towards p in the SL's own frame (sec. 7.1).
-    const glm::vec3 to_receiver = glm::normalize(li.to_local * -e.ev.axis);
-    const glm::vec3 radiance = glm::max(
-        table_.average_radiance(li.radiance, e.ev.sin_angle, to_receiver), glm::vec3(0.0f));
+    if (!e.ready) {
+      // [Guerrero08] eq. 18, towards p in the SL's own frame (sec. 7.1).
+      const glm::vec3 to_receiver = glm::normalize(li.to_local * -e.ev.axis);
+      e.radiance = glm::max(table_.average_radiance(li.radiance, e.ev.sin_angle, to_receiver),
+                            glm::vec3(0.0f));
+      e.cos_n = glm::dot(n, e.ev.axis);
+      e.unblocked = cap_cosine_integral(e.ev.sin_angle, e.cos_n);
+    }
+    const glm::vec3 radiance = e.radiance;
+    const float cos_n = e.cos_n, unblocked = e.unblocked;
     if (ratio_out) ratio_out[e.light] = glm::vec3(0.0f);  // seen here
     if (radiance.x <= 0 && radiance.y <= 0 && radiance.z <= 0) continue;
-    const float cos_n = glm::dot(n, e.ev.axis);
-    const float unblocked = cap_cosine_integral(e.ev.sin_angle, cos_n);
     if (!(unblocked > 0)) continue;
 
     // Blockers in front whose caps overlap S_i's (header: ours), faded in over the overlap.
@@ -279,7 +298,7 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
         continue;  // [Guerrero08] sec. 6.2: intersecting SLs of one object
       }
       const float between = std::acos(std::clamp(cos_between, -1.0f, 1.0f));
-      const float overlap = std::asin(std::min(e.ev.sin_angle, 1.0f)) + angle_of(b) - between;
+      const float overlap = std::asin(std::min(e.ev.sin_angle, 1.0f)) + b.angle_of() - between;
       if (!(overlap > 0)) continue;
       blocker_accumulation::BlockerView faded = b.v;
       faded.weight *= smoothstep01(overlap / (0.25f * std::max(b.angle, 1e-6f)));
@@ -335,6 +354,102 @@ glm::vec3 SphereLightGather<N>::evaluate(const glm::vec3& p, const glm::vec3& n,
     total += q.light_weighted * visibility;  // eq. 14
   }
   return total;
+}
+
+template <int N>
+void SphereLightGather<N>::view_lanes(const float* const* receiver,
+                                      std::span<const std::uint32_t> lights,
+                                      const std::uint8_t* skip, float* out) const {
+  // view_blocker (sphere_blocker.cpp) and evaluate()'s emitter terms, 8 receivers a lane step.
+  using sh::Lanes;
+  constexpr int W = sh::kLaneCount;
+  const Lanes x = sh::load_lanes(receiver[0]), y = sh::load_lanes(receiver[1]),
+              z = sh::load_lanes(receiver[2]), u = sh::load_lanes(receiver[3]),
+              v = sh::load_lanes(receiver[4]), w = sh::load_lanes(receiver[5]);
+  const float min_sin = settings_.blocker.min_sin;
+  const bool ratio = settings_.blocker.ratio == blocker_accumulation::RatioAttenuation::kOn;
+  const bool per_object = settings_.blocking == SlBlocking::kPerObject;
+  const auto smooth = [](Lanes a) {
+    a = sh::lane_clamp01(a);
+    return a * a * (sh::splat(3) - sh::splat(2) * a);
+  };
+  float band[N];  // rotate_zh's sqrt(4 pi / (2l + 1))
+  for (int l = 0; l < N; ++l)
+    band[l] = std::sqrt(4 * std::numbers::pi_v<float> / static_cast<float>(2 * l + 1));
+  for (std::size_t k = 0; k < lights.size(); ++k) {
+    const std::uint32_t i = lights[k];
+    const SphereLightSource<N>& l = lights_[i];
+    float* f = out + k * kLaneFields * W;
+    const Lanes r = sh::splat(l.radius);
+    const Lanes cx = sh::splat(l.centre.x) - x, cy = sh::splat(l.centre.y) - y,
+                cz = sh::splat(l.centre.z) - z;
+    const Lanes t = u * cx + v * cy + w * cz + r;  // reach above the tangent plane
+    const Lanes r1 = sh::lane_min(r, sh::splat(0.5f) * t);
+    const Lanes shift = r - r1;
+    const Lanes tx = cx + shift * u, ty = cy + shift * v, tz = cz + shift * w;
+    const Lanes d1 = sh::lane_sqrt(tx * tx + ty * ty + tz * tz);
+    const sh::LaneMask ok = (t > 0) & (d1 > 0);
+    const Lanes inv = sh::splat(1.0f) / sh::select(d1 > 0, d1, sh::splat(1.0f));
+    const Lanes ax = tx * inv, ay = ty * inv, az = tz * inv;
+    const Lanes sin = sh::lane_min(r1 * inv, sh::splat(1.0f));
+    Lanes weight = smooth(t / (sh::splat(2) * r));
+    if (min_sin > 0) weight *= smooth((sin - sh::splat(min_sin)) * sh::splat(1 / min_sin));
+    if (ratio) weight *= sin;
+    weight = sh::select(ok, weight, Lanes{});
+    sh::store_lanes(ax, f), sh::store_lanes(ay, f + W), sh::store_lanes(az, f + 2 * W);
+    sh::store_lanes(sin, f + 3 * W), sh::store_lanes(weight, f + 4 * W);
+    sh::store_lanes(sh::lane_sqrt(sh::splat(1.0f) - sin * sin), f + 5 * W);
+    Lanes key0{};
+    if (per_object) {
+      const glm::vec3 b = object_centres_[l.object];
+      const Lanes bx = sh::splat(b.x) - x, by = sh::splat(b.y) - y, bz = sh::splat(b.z) - z;
+      key0 = sh::lane_sqrt(bx * bx + by * by + bz * bz);
+    }
+    sh::store_lanes(key0, f + 6 * W);
+    sh::store_lanes(sh::lane_sqrt(cx * cx + cy * cy + cz * cz), f + 7 * W);
+    if (!emits_[i] || (skip && skip[i]) || !(sh::lane_bits(weight > 0) != 0)) continue;
+    // [Guerrero08] eq. 18 towards the receivers in the SL's own frame (sec. 7.1): the basis at
+    // to_local * -axis, each band scaled by w_theta's weight (rotate_zh) and dotted with L^c.
+    const glm::mat3& m = l.to_local;
+    Lanes dx = -(sh::splat(m[0][0]) * ax + sh::splat(m[1][0]) * ay + sh::splat(m[2][0]) * az);
+    Lanes dy = -(sh::splat(m[0][1]) * ax + sh::splat(m[1][1]) * ay + sh::splat(m[2][1]) * az);
+    Lanes dz = -(sh::splat(m[0][2]) * ax + sh::splat(m[1][2]) * ay + sh::splat(m[2][2]) * az);
+    const Lanes len = sh::lane_sqrt(dx * dx + dy * dy + dz * dz);
+    const Lanes inv_len = sh::splat(1.0f) / sh::select(len > 0, len, sh::splat(1.0f));
+    dx *= inv_len, dy *= inv_len, dz *= inv_len;
+    Lanes basis[N * N];
+    sh::eval_basis_lanes<N>(dx, dy, dz, basis);
+    float sins[W];
+    sh::store_lanes(sin, sins);
+    Lanes zonal[N];
+    for (int j = 0; j < W; ++j) {
+      const sh::Zonal<N> zw = table_.weights(sins[j]);
+      for (int b = 0; b < N; ++b) zonal[b][j] = band[b] * zw[b];
+    }
+    for (int c = 0; c < 3; ++c) {
+      Lanes sum{};
+      for (int b = 0; b < N; ++b) {
+        Lanes dot{};
+        for (int q = b * b; q < (b + 1) * (b + 1); ++q) dot += basis[q] * l.radiance[c][q];
+        sum += zonal[b] * dot;
+      }
+      sh::store_lanes(sh::lane_max(sum, Lanes{}), f + (8 + c) * W);
+    }
+    // The unblocked cap integral: pi sin^2 cos beta when wholly above the horizon
+    // (cap_cosine_integral's first case), the exact clipped form per lane otherwise.
+    const Lanes cos_n = u * ax + v * ay + w * az;
+    const Lanes s2 = sh::lane_min(sin * sin, sh::splat(1.0f - 1e-6f));
+    const Lanes cb = sh::lane_max(sh::lane_min(cos_n, sh::splat(1.0f)), sh::splat(-1.0f));
+    const Lanes above = sh::select(cb > 0, sh::splat(std::numbers::pi_v<float>) * s2 * cb, Lanes{});
+    float unblocked[W], cosines[W];
+    sh::store_lanes(sh::select(s2 > 0, above, Lanes{}), unblocked);
+    sh::store_lanes(cos_n, cosines);
+    unsigned clipped = sh::lane_bits(~(cb * cb > s2) & (s2 > 0) & (weight > 0));
+    for (int j = 0; clipped; ++j, clipped >>= 1)
+      if (clipped & 1u) unblocked[j] = cap_cosine_integral(sins[j], cosines[j]);
+    sh::store_lanes(cos_n, f + 11 * W);
+    std::memcpy(f + 12 * W, unblocked, sizeof unblocked);
+  }
 }
 
 template <int N>
@@ -691,15 +806,71 @@ void SphereLightGather<N>::shade_cluster(const SlReceiverClusters& clusters,
     }
     sh::store_lanes(sx, ex + j), sh::store_lanes(sy, ey + j), sh::store_lanes(sz, ez + j);
   }
-  for (std::uint32_t j = 0; j < m; ++j) {
-    glm::vec3 e(ex[j], ey[j], ez[j]);
-    if (any_near) {
-      e += evaluate(clusters.points[begin + j], clusters.normals[begin + j], counts, far.data(),
-                    nullptr, min_sin, consider.data());
+  if (counts) counts->far += m * far_list.size(), counts->parents += m * parents;
+  if (any_near && settings_.horizon == EmitterHorizon::kClip) {
+    for (std::uint32_t j = 0; j < m; ++j) {
+      const glm::vec3 e = evaluate(clusters.points[begin + j], clusters.normals[begin + j], counts,
+                                   far.data(), nullptr, min_sin, consider.data());
+      ex[j] += e.x, ey[j] += e.y, ez[j] += e.z;
     }
-    if (counts) counts->far += far_list.size(), counts->parents += parents;
-    out[clusters.order[begin + j]] = e;
+  } else if (any_near) {
+    // The per-receiver path (kShrink): the views and emitter terms 8 receivers a lane step
+    // (view_lanes), then per receiver the sort, the overlap tests and the exponentials.
+    thread_local std::vector<std::uint32_t> near_lights;
+    thread_local std::vector<float> lanes;
+    thread_local std::vector<View> views;
+    near_lights.clear();
+    for (std::uint32_t o = 0; o + 1 < object_first_.size(); ++o)  // evaluate()'s order
+      for (std::uint32_t q = object_first_[o]; q < object_first_[o + 1]; ++q)
+        if (consider[object_lights_[q]]) near_lights.push_back(object_lights_[q]);
+    const std::size_t nl = near_lights.size();
+    lanes.resize(nl * kLaneFields * sh::kLaneCount);
+    views.resize(std::max<std::size_t>(nl, 1));
+    for (std::uint32_t j0 = 0; j0 < m; j0 += sh::kLaneCount) {
+      const float* const receiver[6] = {px + j0, py + j0, pz + j0, nx + j0, ny + j0, nz + j0};
+      view_lanes(receiver, near_lights, far.data(), lanes.data());
+      for (std::uint32_t j = j0; j < std::min(m, j0 + sh::kLaneCount); ++j) {
+        const std::uint32_t lane = j - j0;
+        int count = 0;
+        for (std::size_t q = 0; q < nl; ++q) {
+          const float* f = lanes.data() + q * kLaneFields * sh::kLaneCount + lane;
+          constexpr int W = sh::kLaneCount;
+          if (!(f[4 * W] > 0)) continue;
+          blocker_accumulation::BlockerView bv;
+          bv.axis = glm::vec3(f[0], f[W], f[2 * W]);
+          bv.sin_angle = f[3 * W];
+          bv.weight = f[4 * W];
+          const std::uint32_t i = near_lights[q];
+          const bool ready = emits_[i] && !far[i];
+          views[count++] = {
+              bv,        bv,
+              f[5 * W],  f[5 * W],
+              -1.0f,     f[6 * W],
+              f[7 * W],  i,
+              ready,     ready ? glm::vec3(f[8 * W], f[9 * W], f[10 * W]) : glm::vec3(0.0f),
+              f[11 * W], f[12 * W]};
+        }
+        const glm::vec3 n(nx[j], ny[j], nz[j]);
+        if (counts) {  // what evaluate() would have looked at (its objects' bound)
+          const glm::vec3 p(px[j], py[j], pz[j]);
+          for (std::uint32_t o = 0; o + 1 < object_first_.size(); ++o) {
+            const glm::vec3 to_bound = object_centres_[o] - p;
+            const float bound_d2 = glm::dot(to_bound, to_bound), bound_r = object_radius_[o];
+            if (bound_d2 > bound_r * bound_r &&
+                (glm::dot(n, to_bound) + bound_r <= 0 ||
+                 (min_sin > 0 && bound_r * bound_r <= min_sin * min_sin * bound_d2)))
+              continue;
+            for (std::uint32_t q = object_first_[o]; q < object_first_[o + 1]; ++q)
+              counts->lights += consider[object_lights_[q]];
+          }
+        }
+        const glm::vec3 e = shade_views(n, views.data(), count, counts, far.data(), nullptr);
+        ex[j] += e.x, ey[j] += e.y, ez[j] += e.z;
+      }
+    }
   }
+  for (std::uint32_t j = 0; j < m; ++j)
+    out[clusters.order[begin + j]] = glm::vec3(ex[j], ey[j], ez[j]);
 }
 
 template <int N>

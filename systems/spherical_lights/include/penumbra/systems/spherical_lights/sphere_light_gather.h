@@ -51,7 +51,9 @@
 //    it). Two levels: a coarse cluster with a near SL is shaded as its fine clusters (half the
 //    cell), so the cut between far and near follows the distance to the objects. The
 //    per-receiver path then looks only at the near emitters and the SLs that can sort in front
-//    of one somewhere in the cluster (the others change nothing there: exact).
+//    of one somewhere in the cluster (the others change nothing there: exact). Under kShrink its
+//    views, eq. 18 and the unblocked cap integrals are taken 8 receivers a lane step; the sort,
+//    the overlap tests and the exponentials stay per receiver.
 //
 // Errors: set_lights throws std::invalid_argument naming the light (index) with a non-finite
 // centre or radiance, or a radius that is negative or not finite; a zero radius is no light.
@@ -223,6 +225,15 @@ class SphereLightGather {
   glm::vec3 evaluate(const glm::vec3& p, const glm::vec3& n, Counts* counts,
                      const std::uint8_t* skip, glm::vec3* ratio_out, float min_sin,
                      const std::uint8_t* consider = nullptr) const;
+  // evaluate()'s second half: the views sorted front to back, then eq. 14 over the emitters.
+  struct View;
+  glm::vec3 shade_views(const glm::vec3& n, View* views, int count, Counts* counts,
+                        const std::uint8_t* skip, glm::vec3* ratio_out) const;
+  // evaluate()'s first half for 8 receivers at once (kShrink): per SL of `lights`, kLaneFields
+  // rows of 8 lanes (the view; for emitters not skipped, eq. 18 and the unblocked cap integral).
+  static constexpr int kLaneFields = 13;
+  void view_lanes(const float* const* receiver, std::span<const std::uint32_t> lights,
+                  const std::uint8_t* skip, float* out) const;
   // A coarse cluster: whole when no SL is near, else its fine clusters one by one.
   void shade_coarse(const SlReceiverClusters& clusters, std::size_t k,
                     std::span<glm::vec3> irradiance, Counts* counts) const;
