@@ -167,6 +167,46 @@ TEST(TerrainShadowSystems, MovedLightIsSpreadOverFramesAndConverges) {
   EXPECT_EQ(f.entry().lights_stamp, stamp) << "a 0.1 mm move does not show";
 }
 
+// Among several lights, a re-shaded tile recomputes only the lights that changed there (their
+// layers, TerrainShadowState::LightLayer), and the result is each light shaded alone, summed in
+// light order (not one buffer shaded by both: the compiler's fused multiply-adds round that
+// differently in the last bit).
+TEST(TerrainShadowSystems, AMovingLightAmongStillOnesReshadesItself) {
+  Fixture f;
+  const ecs::Entity still =
+      f.world.create_with(SphericalLight{{-10.0f, 8.0f, 40.0f}, 3.0f, glm::vec3(2.0f, 4.0f, 6.0f)});
+  f.frame();
+  f.settle();
+  f.world.get_mut<SphericalLight>(f.light)->position += glm::vec3(9.0f, 5.0f, -15.0f);
+  int frames = 0;
+  for (std::uint64_t stamp = f.entry().lights_stamp; frames < 20; ++frames) {
+    f.frame();
+    if (f.entry().lights_stamp == stamp) break;
+    EXPECT_EQ(f.entry().light_tile_shades, f.entry().refresh.stats().refreshed)
+        << "one light per re-shaded tile, not two";
+    stamp = f.entry().lights_stamp;
+  }
+  EXPECT_GE(frames, 2);
+  TerrainShadowing<kSystemBands> whole(f.world.resource<TerrainShadowSettings>().config);
+  const Terrain& t = *f.world.get<Terrain>(f.terrain);
+  whole.update(t.heights, t.height_scale);
+  std::vector<glm::vec3> expected(f.entry().light_irradiance.size(), glm::vec3(0.0f));
+  for (ecs::Entity e : {f.light, still}) {  // creation order: the query's
+    const SphericalLight& l = *f.world.get<SphericalLight>(e);
+    std::vector<glm::vec3> alone;
+    whole.add_spherical_light(l.position - t.origin, l.radius, l.radiance, alone);
+    for (std::size_t i = 0; i < alone.size(); ++i) expected[i] += alone[i];
+  }
+  EXPECT_EQ(f.entry().light_irradiance, expected);
+  // A light that goes away leaves the others' sum.
+  f.world.destroy(f.light);
+  f.settle();
+  std::vector<glm::vec3> alone;
+  const SphericalLight& l = *f.world.get<SphericalLight>(still);
+  whole.add_spherical_light(l.position - t.origin, l.radius, l.radiance, alone);
+  EXPECT_EQ(f.entry().light_irradiance, alone);
+}
+
 TEST(TerrainShadowSystems, RotatingEnvironmentReshadesFromStoredTransfer) {
   Fixture f;
   f.frame();

@@ -76,10 +76,39 @@ void update_visibility(jobs::SystemContext& ctx) {
   });
 }
 
+bool same_light(const LightSample& a, const LightSample& b) {
+  return a.centre == b.centre && a.radius == b.radius && a.radiance == b.radiance;
+}
+
+// The layers of `lights` (TerrainShadowState::LightLayer), in their order: kept for lights
+// still there, new (never shaded) for new ones.
+void match_layers(TerrainShadowState& x, const std::vector<ecs::Entity>& lights,
+                  std::size_t tiles) {
+  std::vector<TerrainShadowState::LightLayer> layers;
+  layers.reserve(lights.size());
+  for (ecs::Entity e : lights) {
+    auto it = std::find_if(x.light_layers.begin(), x.light_layers.end(),
+                           [&](const TerrainShadowState::LightLayer& l) { return l.entity == e; });
+    if (it != x.light_layers.end() && it->tile_samples.size() == tiles) {
+      layers.push_back(std::move(*it));
+    } else {
+      LightSample never;
+      never.radius = -1.0f;
+      layers.push_back({e, {}, std::vector<LightSample>(tiles, never)});
+    }
+  }
+  x.light_layers = std::move(layers);
+}
+
 void update_lights(ecs::World& w) {
   std::vector<SphericalLight> lights;
-  w.query<const SphericalLight>().each([&](const SphericalLight& l) { lights.push_back(l); });
+  std::vector<ecs::Entity> entities;
+  w.query<const SphericalLight>().each([&](ecs::Entity e, const SphericalLight& l) {
+    lights.push_back(l);
+    entities.push_back(e);
+  });
   std::vector<LightSample> samples;
+  std::vector<TexelRect> redo;
   w.query<const Terrain, TerrainShadowState>().each([&](const Terrain& terrain,
                                                         TerrainShadowState& x) {
     const Terrain* t = &terrain;
@@ -95,6 +124,7 @@ void update_lights(ecs::World& w) {
       x.refresh.reset(f.width, f.height, positions);
       x.refresh_visibility = x.visibility_stamp;
       x.refresh_origin = t->origin;
+      x.light_layers.clear();
       if (x.light_irradiance.size() != n) x.light_irradiance.assign(n, glm::vec3(0.0f));
     }
     samples.clear();
@@ -104,12 +134,46 @@ void update_lights(ecs::World& w) {
     jobs::report_work(tiles.size(), x.refresh.stats().tiles - tiles.size());  // tiles not re-shaded
     if (tiles.empty()) return;
     x.refresh.keep_previous(x.light_irradiance);
-    for (const TexelRect& r : tiles)
+    const int tile = x.refresh.config().tile, tiles_x = (f.width + tile - 1) / tile;
+    const std::size_t tile_count =
+        static_cast<std::size_t>(tiles_x) * ((f.height + tile - 1) / tile);
+    auto tile_index = [&](const TexelRect& r) {
+      return static_cast<std::size_t>(r.y0 / tile) * tiles_x + r.x0 / tile;
+    };
+    match_layers(x, entities, tile_count);
+    x.light_tile_shades = 0;
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+      TerrainShadowState::LightLayer& layer = x.light_layers[k];
+      redo.clear();
+      for (const TexelRect& r : tiles) {
+        LightSample& was = layer.tile_samples[tile_index(r)];
+        if (same_light(was, samples[k])) continue;  // this light did not change here
+        was = samples[k];
+        redo.push_back(r);
+      }
+      if (redo.empty()) continue;
+      x.light_tile_shades += redo.size();
+      if (layer.irradiance.size() != n) layer.irradiance.assign(n, glm::vec3(0.0f));
+      for (const TexelRect& r : redo)
+        for (int y = r.y0; y < r.y1; ++y)
+          std::fill_n(layer.irradiance.begin() + static_cast<std::ptrdiff_t>(y) * f.width + r.x0,
+                      r.width(), glm::vec3(0.0f));
+      const LightSample& l = samples[k];
+      if (l.radius > 0)
+        x.shadowing->add_spherical_light(l.centre, l.radius, l.radiance, layer.irradiance, redo);
+    }
+    // The tiles' sums, in light order from zero (as shading them together adds them).
+    tbb::parallel_for(std::size_t{0}, tiles.size(), [&](std::size_t i) {
+      const TexelRect& r = tiles[i];
       for (int y = r.y0; y < r.y1; ++y)
-        std::fill_n(x.light_irradiance.begin() + static_cast<std::ptrdiff_t>(y) * f.width + r.x0,
-                    r.width(), glm::vec3(0.0f));
-    for (const LightSample& l : samples)
-      x.shadowing->add_spherical_light(l.centre, l.radius, l.radiance, x.light_irradiance, tiles);
+        for (int xx = r.x0; xx < r.x1; ++xx) {
+          const std::size_t j = static_cast<std::size_t>(y) * f.width + xx;
+          glm::vec3 sum(0.0f);
+          for (const TerrainShadowState::LightLayer& layer : x.light_layers)
+            if (!layer.irradiance.empty()) sum += layer.irradiance[j];
+          x.light_irradiance[j] = sum;
+        }
+    });
     x.refresh.commit(&x.light_irradiance);
     x.lights_dirty.insert(x.lights_dirty.end(), tiles.begin(), tiles.end());  // for compose
     ++x.lights_stamp;

@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "penumbra/ecs/entity.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/terrain_shadow/environment_refresh.h"
 #include "penumbra/systems/terrain_shadow/light_refresh.h"
@@ -53,9 +54,20 @@ struct TerrainShadowState {
   std::vector<glm::vec3> environment_irradiance;
   std::vector<glm::vec3> composed;
   EnvironmentRefresh environment_refresh;
-  std::vector<TexelRect> lights_dirty;  // tiles the lights re-shaded since the last compose
-  std::uint64_t composed_sources = ~0ull;    // (sources_version + 1) << 8 | key-light mask
-  LightRefresh refresh;                      // which tiles the lights re-shade
+  std::vector<TexelRect> lights_dirty;     // tiles the lights re-shaded since the last compose
+  std::uint64_t composed_sources = ~0ull;  // (sources_version + 1) << 8 | key-light mask
+  LightRefresh refresh;                    // which tiles the lights re-shade
+  // Per spherical light (by entity), its own irradiance and, per refresh tile, the light as
+  // that tile last shaded it: a re-shaded tile recomputes only the lights that changed there
+  // (a moving orb among lit beacons re-shades the orb alone) and sums the layers, in light
+  // order from zero, into light_irradiance. Cleared when the terrain changes.
+  struct LightLayer {
+    ecs::Entity entity;
+    std::vector<glm::vec3> irradiance;      // empty until the light first shades a tile
+    std::vector<LightSample> tile_samples;  // radius < 0: never shaded
+  };
+  std::vector<LightLayer> light_layers;
+  std::size_t light_tile_shades = 0;         // the last re-shade's (tile, light) pairs recomputed
   std::uint64_t refresh_visibility = ~0ull;  // visibility_stamp the refresh tiles were made for
   glm::vec3 refresh_origin{0.0f};
   UpdateStats last_update;  // of the latest visibility update (for overlays, benchmarks)
