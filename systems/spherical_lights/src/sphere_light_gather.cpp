@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -435,20 +434,9 @@ void SphereLightGather<N>::view_lanes(const float* const* receiver,
       }
       sh::store_lanes(sh::lane_max(sum, Lanes{}), f + (8 + c) * W);
     }
-    // The unblocked cap integral: pi sin^2 cos beta when wholly above the horizon
-    // (cap_cosine_integral's first case), the exact clipped form per lane otherwise.
     const Lanes cos_n = u * ax + v * ay + w * az;
-    const Lanes s2 = sh::lane_min(sin * sin, sh::splat(1.0f - 1e-6f));
-    const Lanes cb = sh::lane_max(sh::lane_min(cos_n, sh::splat(1.0f)), sh::splat(-1.0f));
-    const Lanes above = sh::select(cb > 0, sh::splat(std::numbers::pi_v<float>) * s2 * cb, Lanes{});
-    float unblocked[W], cosines[W];
-    sh::store_lanes(sh::select(s2 > 0, above, Lanes{}), unblocked);
-    sh::store_lanes(cos_n, cosines);
-    unsigned clipped = sh::lane_bits(~(cb * cb > s2) & (s2 > 0) & (weight > 0));
-    for (int j = 0; clipped; ++j, clipped >>= 1)
-      if (clipped & 1u) unblocked[j] = cap_cosine_integral(sins[j], cosines[j]);
     sh::store_lanes(cos_n, f + 11 * W);
-    std::memcpy(f + 12 * W, unblocked, sizeof unblocked);
+    sh::store_lanes(cap_cosine_integral_lanes(sin, cos_n), f + 12 * W);
   }
 }
 
