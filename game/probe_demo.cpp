@@ -140,7 +140,10 @@ void turn_sky(ecs::World& w) {
 
 // E(n) / pi per vertex normal from the object's irradiance SH (engine/sh: E(n) = sum_i e_i
 // y_i(n)), clamped at 0: radiance per unit albedo, as blockers.shade gives the boulders.
+// The cloud was baked from the map at full intensity: EnvironmentLight::intensity scales it.
 void shade(ecs::World& w) {
+  const EnvironmentLight* env = w.try_resource<const EnvironmentLight>();
+  const float intensity = env ? env->intensity : 1.0f;
   w.query<const ProbeLighting, const Transform, const ProbeShadedMesh, VertexLighting>().each(
       [&](const ProbeLighting& l, const Transform& t, const ProbeShadedMesh& m,
           VertexLighting& out) {
@@ -155,7 +158,7 @@ void shade(ecs::World& w) {
           glm::vec3 e(0.0f);
           for (int k = 0; k < sh::kCount<ProbeLighting::kBands>; ++k)
             e += y[k] * glm::vec3(l.irradiance[0][k], l.irradiance[1][k], l.irradiance[2][k]);
-          (*rgb)[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
+          (*rgb)[i] = glm::max(intensity * e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
         }
         out.rgb = std::move(rgb);
       });
@@ -391,7 +394,7 @@ void add_probe_demo_systems(jobs::Schedule& s) {
       .writes<ProbeSkyBake, ProbeCloudResource>();
   probe_cloud::add_probe_cloud_systems(s);
   s.add_task("demo_probe_shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
-      .reads<ProbeLighting, Transform, ProbeShadedMesh>()
+      .reads<ProbeLighting, Transform, ProbeShadedMesh, EnvironmentLight>()
       .writes<VertexLighting>();
   s.add_task("demo_probe_debug", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
       .reads<ProbeDebugView, probe_cloud::ProbeWalkState, ProbeAnchor, ProbeCloudView>()

@@ -11,6 +11,7 @@
 
 #include "penumbra/components/camera.h"
 #include "penumbra/components/debug_shapes.h"
+#include "penumbra/components/environment_light.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
@@ -18,6 +19,7 @@
 #include "penumbra/data/height_field.h"
 #include "penumbra/game/boulders.h"
 #include "penumbra/game/valley_rules.h"
+#include "penumbra/systems/render_extract/render_extract.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
 
 namespace penumbra::game {
@@ -151,11 +153,12 @@ void follow(ecs::World& w) {
   Camera& cam = w.resource<Camera>();
   w.query<const Orb, const SphericalLight>().each([&](const Orb&, const SphericalLight& light) {
     const glm::vec3 fwd(std::cos(g.heading), std::sin(g.heading), 0.0f);
-    glm::vec3 eye = light.position - 2600.0f * fwd + glm::vec3(0, 0, 1300.0f);
+    // Far enough that a terrain texel (74 m) is a few pixels, near enough to see the orb.
+    glm::vec3 eye = light.position - 5500.0f * fwd + glm::vec3(0, 0, 3800.0f);
     if (terrain) eye.z = std::max(eye.z, ground_height(*terrain, glm::vec2(eye)) + 400.0f);
     cam.position = eye;
-    cam.target = light.position + 900.0f * fwd;
-    cam.vertical_fov = 0.9f;
+    cam.target = light.position + 1200.0f * fwd;
+    cam.vertical_fov = 0.75f;
     cam.near_plane = 10.0f;
     cam.far_plane = 60000.0f;
   });
@@ -175,6 +178,17 @@ void markers(ecs::World& w, const ValleyConfig& c) {
       [&](const Beacon& b, components::DebugSphere& s) {
         s = {b.position, c.beacon_radius, tone(c.beacon_radiance, b.lit ? 6.0f : 0.6f)};
       });
+}
+
+// The sky dims as the round goes on (full daylight on the title screen).
+void dusk(ecs::World& w, const ValleyConfig& c) {
+  const GameState& g = w.resource<const GameState>();
+  const float left = g.phase == GamePhase::kTitle ? c.time_limit : g.time_left;
+  const float k = dusk_intensity(left, c.time_limit, c.night, c.dusk_step);
+  if (auto* env = w.try_resource<components::EnvironmentLight>(); env && env->intensity != k)
+    env->intensity = k;
+  if (auto* rs = w.try_resource<systems::RenderSettings>())
+    rs->sky.environment_intensity = k * w.resource<const ValleyGround>().sky_intensity;
 }
 
 void check(bool ok, const char* field) {
@@ -220,7 +234,9 @@ void populate_valley(ecs::World& world, const ValleyConfig& c) {
 
   world.emplace_resource<GameState>();
   world.emplace_resource<GameInput>();
-  world.emplace_resource<ValleyGround>(ValleyGround{t.heights});
+  const auto* rs = world.try_resource<const systems::RenderSettings>();
+  world.emplace_resource<ValleyGround>(
+      ValleyGround{t.heights, rs ? rs->sky.environment_intensity : 1.0f});
   if (!world.try_resource<Camera>()) world.emplace_resource<Camera>();
 
   const data::HeightField& f = *t.heights;
@@ -253,6 +269,9 @@ void add_valley_systems(jobs::Schedule& s, const ValleyConfig& config) {
   s.add_task("game_markers", [config](jobs::SystemContext& ctx) { markers(ctx.world(), config); })
       .reads<Orb, Beacon, SphericalLight>()
       .writes<components::DebugSphere>();
+  s.add_task("game_dusk", [config](jobs::SystemContext& ctx) { dusk(ctx.world(), config); })
+      .reads<GameState, ValleyGround>()
+      .writes<components::EnvironmentLight, systems::RenderSettings>();
   s.add_task("game_camera", [](jobs::SystemContext& ctx) { follow(ctx.world()); })
       .reads<GameState, Orb, SphericalLight, Terrain>()
       .writes<Camera>();

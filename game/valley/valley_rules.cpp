@@ -129,6 +129,13 @@ int win_bonus(float time_left) {
   return 10 * static_cast<int>(std::floor(std::max(0.0f, time_left)));
 }
 
+float dusk_intensity(float time_left, float time_limit, float night, float dusk_step) {
+  if (!(time_limit > 0) || !(night > 0) || !(dusk_step > 1)) return 1.0f;
+  const float gone = 1.0f - std::clamp(time_left / time_limit, 0.0f, 1.0f);
+  const float steps = std::round(gone * std::log(night) / -std::log(dusk_step));
+  return std::pow(dusk_step, -steps);
+}
+
 std::vector<glm::vec2> beacon_sites(const components::Terrain& terrain, const ValleyConfig& c) {
   std::vector<glm::vec2> sites;
   if (!terrain.heights || c.beacons < 1) return sites;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "penumbra/components/environment_light.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
@@ -96,6 +97,9 @@ TEST(ValleyGame, NightFallsWhenTheTimeRunsOut) {
   ValleyConfig c;
   c.time_limit = 1.0f;
   SmallValley v{c};
+  auto& env = v.world.emplace_resource<components::EnvironmentLight>();
+  v.step();
+  EXPECT_EQ(env.intensity, 1.0f);  // daylight on the title screen
   v.step(kStart);
   for (int i = 0; i < 28; ++i) v.step();
   EXPECT_EQ(v.state().phase, GamePhase::kPlaying);
@@ -103,6 +107,8 @@ TEST(ValleyGame, NightFallsWhenTheTimeRunsOut) {
   EXPECT_EQ(v.state().phase, GamePhase::kLost);
   EXPECT_EQ(v.state().score, 0);
   EXPECT_EQ(v.state().time_left, 0.0f);
+  v.step();
+  EXPECT_NEAR(env.intensity, c.night, 0.011f * c.night);  // night
 }
 
 TEST(ValleyGame, PauseStopsTheClockAndTheOrb) {

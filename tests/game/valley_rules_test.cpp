@@ -118,6 +118,24 @@ TEST(ValleyRules, PointsRewardTimeLeft) {
   EXPECT_EQ(win_bonus(0.0f), 0);
 }
 
+TEST(ValleyRules, DuskFallsInWholeStepsFromDaylightToNight) {
+  EXPECT_EQ(dusk_intensity(120.0f, 120.0f, 0.06f, 1.02f), 1.0f);
+  EXPECT_NEAR(dusk_intensity(0.0f, 120.0f, 0.06f, 1.02f), 0.06f, 0.06f * 0.011f);
+  EXPECT_NEAR(dusk_intensity(60.0f, 120.0f, 0.06f, 1.02f), std::sqrt(0.06f), 0.01f);
+  // Whole steps: the value changes about once a second, not every frame.
+  int changes = 0;
+  float last = 1.0f;
+  for (int f = 0; f <= 3600; ++f) {
+    const float k = dusk_intensity(120.0f - f / 30.0f, 120.0f, 0.06f, 1.02f);
+    EXPECT_LE(k, last);
+    changes += k != last;
+    last = k;
+  }
+  EXPECT_NEAR(changes, 142, 2);                                 // ln(1 / 0.06) / ln(1.02)
+  EXPECT_EQ(dusk_intensity(10.0f, 0.0f, 0.06f, 1.02f), 1.0f);   // no limit: no dusk
+  EXPECT_EQ(dusk_intensity(10.0f, 120.0f, 0.06f, 1.0f), 1.0f);  // no step
+}
+
 TEST(ValleyRules, BeaconSitesAreReproducibleAndOnTheRing) {
   const Terrain t = field();
   ValleyConfig c;

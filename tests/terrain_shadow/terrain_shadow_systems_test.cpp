@@ -207,6 +207,32 @@ TEST(TerrainShadowSystems, AMovingLightAmongStillOnesReshadesItself) {
   EXPECT_EQ(f.entry().light_irradiance, alone);
 }
 
+// EnvironmentLight::intensity scales the environment's share alone (the lights keep theirs),
+// and changing it composes again without shading anything again.
+TEST(TerrainShadowSystems, DimmingTheSkyScalesTheEnvironmentShareAlone) {
+  Fixture f;
+  f.frame();
+  f.settle();
+  const auto before = f.lighting().rgb;
+  const auto lights = f.entry().lights_stamp, visibility = f.entry().visibility_stamp;
+  f.world.resource<EnvironmentLight>().intensity = 0.25f;
+  f.frame();
+  EXPECT_EQ(f.entry().lights_stamp, lights);
+  EXPECT_EQ(f.entry().visibility_stamp, visibility);
+  ASSERT_NE(f.lighting().rgb, before);
+  const auto& x = f.entry();
+  for (std::size_t i = 0; i < x.composed.size(); i += 37) {
+    const glm::vec3 want =
+        glm::max(0.25f * x.environment_irradiance[i] + x.light_irradiance[i], glm::vec3(0.0f)) *
+        std::numbers::inv_pi_v<float>;
+    EXPECT_NEAR(x.composed[i].x, want.x, 1e-6f * (1 + want.x));
+    EXPECT_LT((*f.lighting().rgb)[i].y, (*before)[i].y + 1e-6f);
+  }
+  const auto dimmed = f.lighting().rgb;
+  f.frame();  // nothing changed: nothing composed again
+  EXPECT_EQ(f.lighting().rgb, dimmed);
+}
+
 TEST(TerrainShadowSystems, RotatingEnvironmentReshadesFromStoredTransfer) {
   Fixture f;
   f.frame();

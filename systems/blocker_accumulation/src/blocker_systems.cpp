@@ -61,7 +61,10 @@ bool finite(const glm::mat4& m) {
 sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   sh::CoeffsRgb<N> radiance{};
   if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>())
-    for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+    for (int c = 0; c < 3; ++c) {
+      radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+      for (float& v : radiance[c]) v *= env->intensity;
+    }
   return radiance;
 }
 
@@ -85,12 +88,15 @@ sh::CoeffsRgb<N> receiver_environment(ecs::World& w, std::vector<KeyLight>& keys
                                : 0;
   const sh::CoeffsRgb<N>& sh = components::sh_without(*env, mask);
   sh::CoeffsRgb<N> radiance{};
-  for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(sh[c], env->rotation_z);
+  for (int c = 0; c < 3; ++c) {
+    radiance[c] = sh::rotate_z<N>(sh[c], env->rotation_z);
+    for (float& v : radiance[c]) v *= env->intensity;
+  }
   for (std::size_t j = 0; j < env->sources.size(); ++j) {
     if (!(mask >> j & 1)) continue;
     const glm::vec3 dir = components::world_direction(env->sources[j], env->rotation_z);
     keys.push_back({dir, std::atan2(dir.y, dir.x), env->sources[j].angular_radius,
-                    env->sources[j].irradiance});
+                    env->intensity * env->sources[j].irradiance});
   }
   return radiance;
 }

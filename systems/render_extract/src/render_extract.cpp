@@ -71,8 +71,9 @@ void extract_environment(const ecs::World& world, const EnvironmentShadingSettin
        ++j) {
     if (!(keys >> j & 1)) continue;
     const auto& s = env->sources[j];
-    out.sources.push_back({components::world_direction(s, env->rotation_z), s.irradiance,
-                           static_cast<std::uint32_t>(j), settings.weight[out.sources.size()]});
+    out.sources.push_back({components::world_direction(s, env->rotation_z),
+                           env->intensity * s.irradiance, static_cast<std::uint32_t>(j),
+                           settings.weight[out.sources.size()]});
     shadowed |= 1u << j;
   }
   out.present_mask = ((1u << n) - 1) & ~shadowed;

@@ -73,7 +73,10 @@ bool pose_of(const glm::mat4& world, ObjectPose& pose) {
 sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   sh::CoeffsRgb<N> radiance{};
   if (const EnvironmentLight* env = w.try_resource<const EnvironmentLight>()) {
-    for (int c = 0; c < 3; ++c) radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+    for (int c = 0; c < 3; ++c) {
+      radiance[c] = sh::rotate_z<N>(env->radiance[c], env->rotation_z);
+      for (float& v : radiance[c]) v *= env->intensity;
+    }
   }
   return radiance;
 }

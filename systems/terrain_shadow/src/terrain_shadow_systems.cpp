@@ -224,8 +224,9 @@ std::vector<float> transfer_norms(const TerrainShadowing<kSystemBands>& shadowin
   return norms;
 }
 
-// (E_env + E_key + E_lights) / pi over the texels of `rects` ([Meier13] eq. 4.30).
-void compose_rects(TerrainShadowState& x, std::span<const TexelRect> rects) {
+// (intensity (E_env + E_key) + E_lights) / pi over the texels of `rects` ([Meier13] eq. 4.30;
+// intensity: EnvironmentLight::intensity).
+void compose_rects(TerrainShadowState& x, std::span<const TexelRect> rects, float intensity) {
   const bool lit = x.light_irradiance.size() == x.environment_irradiance.size();
   const int w = x.shadowing->field().width;
   tbb::parallel_for(std::size_t{0}, rects.size(), [&](std::size_t k) {
@@ -233,8 +234,8 @@ void compose_rects(TerrainShadowState& x, std::span<const TexelRect> rects) {
     for (int y = r.y0; y < r.y1; ++y)
       for (int xx = r.x0; xx < r.x1; ++xx) {
         const std::size_t i = static_cast<std::size_t>(y) * w + xx;
-        const glm::vec3 e =
-            x.environment_irradiance[i] + (lit ? x.light_irradiance[i] : glm::vec3(0.0f));
+        const glm::vec3 e = intensity * x.environment_irradiance[i] +
+                            (lit ? x.light_irradiance[i] : glm::vec3(0.0f));
         x.composed[i] = glm::max(e, glm::vec3(0.0f)) * std::numbers::inv_pi_v<float>;
       }
   });
@@ -253,6 +254,7 @@ void compose(ecs::World& w) {
     const std::uint64_t env_version = env ? env->version + 1 : 0;
     const std::uint64_t sources = keys ? ((env->sources_version + 1) << 8) | keys : 0;
     const float rotation = env ? env->rotation_z : 0.0f;
+    const float intensity = env && env->intensity >= 0 ? env->intensity : 1.0f;
     // A new transfer, map or set of key lights: every tile now. A turned map (and its key
     // lights): the tiles where the turn can show, within a budget (environment_refresh.h).
     const bool whole = x.composed_visibility != x.visibility_stamp ||
@@ -277,7 +279,8 @@ void compose(ecs::World& w) {
     if (keys) update_key_lights(*env, settings, keys, x, pose);
     const std::vector<TexelRect>& tiles = x.environment_refresh.plan(pose, whole);
     const bool lights_changed = x.composed_lights != x.lights_stamp;
-    if (tiles.empty() && !lights_changed)
+    const bool dimmed = x.composed_intensity != intensity;  // every texel, but only composed again
+    if (tiles.empty() && !lights_changed && !dimmed)
       return jobs::report_item(false);  // nothing it reads changed visibly
     jobs::report_item(true);
     if (!tiles.empty()) {
@@ -290,13 +293,13 @@ void compose(ecs::World& w) {
       }
       x.environment_refresh.commit(pose, x.shadowing->normals());
     }
-    if (x.composed.size() != n || whole) {
+    if (x.composed.size() != n || whole || dimmed) {
       x.composed.resize(n);
       const TexelRect all = TexelRect::all(f);
-      compose_rects(x, {&all, 1});
+      compose_rects(x, {&all, 1}, intensity);
     } else {
-      compose_rects(x, tiles);
-      compose_rects(x, x.lights_dirty);
+      compose_rects(x, tiles, intensity);
+      compose_rects(x, x.lights_dirty, intensity);
     }
     x.lights_dirty.clear();
     auto rgb = std::make_shared<std::vector<glm::vec3>>(x.composed);
@@ -310,6 +313,7 @@ void compose(ecs::World& w) {
     x.composed_lights = x.lights_stamp;
     x.composed_environment = env_version;
     x.composed_rotation = rotation;
+    x.composed_intensity = intensity;
     x.composed_sources = sources;
   });
 }

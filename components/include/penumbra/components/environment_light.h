@@ -39,6 +39,9 @@ struct EnvironmentLight {
   sh::CoeffsRgb<sh::kDefaultBands> radiance{};      // SH of the map's radiance, unrotated
   float rotation_z = 0;  // radians, counter-clockwise about +z (the map's world orientation)
   std::uint64_t version = 0;
+  // A scale on all of the map's light above (SH, sources, OEMs), >= 0: the sky dimming at dusk
+  // without a new map. Every reader multiplies it in; changing it does not bump `version`.
+  float intensity = 1.0f;
   // Sources, brightest first (at most 8), and the 2^sources.size() OEM SH sets: index = mask of
   // the sources still in the map (bit j set: source j present), so the last set is the whole
   // map and set 0 the map without any source. Unrotated, like `radiance`. Empty: none detected.

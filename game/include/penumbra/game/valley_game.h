@@ -15,6 +15,8 @@
 //   game_rules   reads FrameTime, GameInput, Boulder, Transform; writes GameState, Orb,
 //                Beacon, SphericalLight, Terrain (phase changes, the orb's motion, beacons,
 //                edits, restoring the ground on restart: valley_rules.h)
+//   game_dusk    reads GameState, ValleyGround; writes EnvironmentLight, RenderSettings (the
+//                sky's intensity: dusk_intensity)
 //   game_camera  reads GameState, Orb, SphericalLight, Terrain; writes Camera (behind the orb)
 #pragma once
 
@@ -60,6 +62,11 @@ struct ValleyConfig {
   float edit_radius = 700.0f;   // metres
   float edit_strength = 90.0f;  // metres of depth or height per brush
   int max_edits = 40;           // per round: the ground is not a sculpting tool
+  // Dusk: the sky's light (EnvironmentLight::intensity, and the sky drawn) falls from 1 to
+  // `night` over the round, geometrically, in steps of `dusk_step` (2%: about one a second),
+  // so the terrain is composed again once a step, not every frame.
+  float night = 0.06f;
+  float dusk_step = 1.02f;
 };
 
 // Resource: the round. Scores are integers so that replays compare exactly.
@@ -89,9 +96,10 @@ struct Beacon {
   bool lit = false;
 };
 
-// Resource: the ground as the round started, restored on restart.
+// Resource: the valley as the round started (ground and sky brightness), restored on restart.
 struct ValleyGround {
   std::shared_ptr<const data::HeightField> heights;
+  float sky_intensity = 1.0f;  // RenderSettings::sky.environment_intensity at full daylight
 };
 
 // Resource: a recorded session being replayed; after its last step the input is empty.

@@ -44,6 +44,11 @@ PhaseChange next_phase(GamePhase phase, const GameInput& input);
 int beacon_points(float time_left);
 int win_bonus(float time_left);
 
+// The sky's intensity with `time_left` of `time_limit` to go: 1 at the start (and on the title
+// screen: time_left = time_limit), `night` at 0, geometric between, rounded to whole steps of
+// the factor `dusk_step` (> 1).
+float dusk_intensity(float time_left, float time_limit, float night, float dusk_step);
+
 // The beacons' places: `count` points on a ring around the valley's centre (radii between
 // ring_min and ring_max of its width), evenly spread in angle with a jitter from `seed`;
 // the same for the same arguments on every platform (no <random> distributions).

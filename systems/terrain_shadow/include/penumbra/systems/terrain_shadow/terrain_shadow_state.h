@@ -39,6 +39,7 @@ struct TerrainShadowState {
   std::uint64_t composed_visibility = ~0ull, composed_lights = ~0ull;
   std::uint64_t composed_environment = ~0ull;
   float composed_rotation = 0;
+  float composed_intensity = 1;  // EnvironmentLight::intensity the composed values have
   // Key lights (the environment's sources, compose): per source its horizons and the azimuth
   // and visibility_stamp they were swept for.
   struct KeyLight {
