@@ -475,7 +475,8 @@ int run_window(const Options& o) {
   std::vector<FrameSample> samples;
   int f = 0;
   auto last = Clock::now();
-  bool p_was_down = false, i_was_down = false, c_was_down = false;
+  bool p_was_down = false, i_was_down = false, c_was_down = false, f1_was_down = false;
+  stats.panel = !sim.valley;  // the game starts with its HUD alone (F1: the panel)
   for (; !window.should_close() && (o.frames == 0 || f < o.frames); ++f) {
     window.poll_events();
     if (window.escape_pressed()) window.request_close();
@@ -493,13 +494,17 @@ int run_window(const Options& o) {
     // C toggles the camera between the orbit and the boulder pair.
     const bool c_down = glfwGetKey(window.glfw(), GLFW_KEY_C) == GLFW_PRESS;
     auto* cam = sim.world.try_resource<game::DemoCameraMode>();
-    if (c_down && !c_was_down && cam) cam->follow_pair = !cam->follow_pair;
+    if (c_down && !c_was_down && cam && !sim.valley) cam->follow_pair = !cam->follow_pair;
     c_was_down = c_down;
     stats.lines.clear();
-    if (sim.valley) stats.lines = sim.valley->hud(sim.world);
+    // F1 toggles the panel (systems, passes, view switches); the game's HUD stays.
+    const bool f1_down = glfwGetKey(window.glfw(), GLFW_KEY_F1) == GLFW_PRESS;
+    if (f1_down && !f1_was_down) stats.panel = !stats.panel;
+    f1_was_down = f1_down;
+    if (sim.valley) stats.hud = sim.valley->hud(sim.world);
     if (sl)
       stats.lines.push_back(std::string("I: indirect light ") + (sl->indirect ? "on" : "off"));
-    if (cam)
+    if (cam && !sim.valley)
       stats.lines.push_back(std::string("C: camera ") +
                             (cam->follow_pair ? "on the pair" : "orbit"));
     if (auto* probe = sim.world.try_resource<game::HorizonProbe>()) {

@@ -83,6 +83,22 @@ void Overlay::build(const OverlayStats& stats, ViewSettings& view) {
   ImGui_ImplVulkan_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
+  if (!stats.hud.empty()) {
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    ImGui::SetNextWindowPos(ImVec2(vp->WorkPos.x + 0.5f * vp->WorkSize.x, vp->WorkPos.y + 8),
+                            ImGuiCond_Always, ImVec2(0.5f, 0.0f));
+    ImGui::SetNextWindowBgAlpha(0.55f);
+    ImGui::Begin("hud", nullptr,
+                 ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                     ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoSavedSettings);
+    for (const std::string& line : stats.hud) ImGui::TextUnformatted(line.c_str());
+    ImGui::End();
+  }
+  if (!stats.panel) {
+    ImGui::Render();
+    built_ = true;
+    return;
+  }
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
   ImGui::SetNextWindowBgAlpha(0.75f);
   ImGui::Begin("penumbra", nullptr, ImGuiWindowFlags_AlwaysAutoResize);

@@ -43,6 +43,10 @@ struct OverlayStats {
   std::vector<OverlaySystem> systems;  // per system of the job graph
   std::vector<PassTime> passes;        // GPU ms per pass
   std::vector<std::string> lines;      // more lines (keys, switches)
+  // A game's heads-up display: these lines in a small window at the top centre, shown whether
+  // or not the panel is (empty: none). The panel (everything above) only when `panel` is set.
+  std::vector<std::string> hud;
+  bool panel = true;
 };
 
 class Overlay {

@@ -1,0 +1,78 @@
+// Soak: the committed session replayed round after round through every system (no renderer: its
+// own soak is tests/render/soak_test.cpp), 1,800 frames by default (a minute of game time; set
+// PENUMBRA_SOAK_FRAMES=9000 for the five minutes of issue 16, e.g. under ASan). The live heap
+// must stay flat after the first round: allocated bytes (the sanitizer allocator's under ASan,
+// glibc's otherwise, so ASan's quarantine does not count) grow by less than 4 MiB from the end
+// of the first replay to the end.
+#include <gtest/gtest.h>
+
+#include <malloc.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "penumbra/game/valley_game.h"
+#include "penumbra/jobs/executor.h"
+
+#if defined(__SANITIZE_ADDRESS__)
+#define PENUMBRA_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define PENUMBRA_ASAN 1
+#endif
+#endif
+#ifdef PENUMBRA_ASAN
+#include <sanitizer/allocator_interface.h>
+#endif
+
+namespace penumbra::game {
+namespace {
+
+std::size_t live_heap_bytes() {
+#ifdef PENUMBRA_ASAN
+  return __sanitizer_get_current_allocated_bytes();
+#else
+  return mallinfo2().uordblks;
+#endif
+}
+
+TEST(ValleySoak, RoundAfterRoundTheHeapStaysFlat) {
+  const char* env = std::getenv("PENUMBRA_SOAK_FRAMES");
+  const long frames = env ? std::strtol(env, nullptr, 10) : 1800;
+  ASSERT_GT(frames, 0) << "PENUMBRA_SOAK_FRAMES must be a positive frame count";
+  ecs::World world;
+  TerrainDemoConfig demo = valley_world(TerrainDemoConfig{});
+  demo.probes.count = 0;  // the floaters' probe bake is start-up work, not per-frame
+  populate_terrain_demo(world, demo);
+  populate_valley(world);
+  world.emplace_resource<InputPlayback>(InputPlayback{
+      load_input_recording(std::string(PENUMBRA_SOURCE_DIR) + "/game/sessions/dusk_run.pinput"),
+      0});
+  jobs::Schedule schedule;
+  add_terrain_demo_systems(schedule, demo);
+  jobs::Executor executor(2);
+  InputPlayback& playback = world.resource<InputPlayback>();
+  const std::size_t round = playback.recording.steps.size();
+  std::size_t warm = 0;
+  int rounds = 0;
+  for (long f = 0; f < frames; ++f) {
+    executor.run(schedule, world);
+    if (playback.next >= round) {  // the session ended (won): its Start begins the next round
+      playback.next = 0;
+      ++rounds;
+      const GameState& g = world.resource<const GameState>();
+      EXPECT_TRUE(g.phase == GamePhase::kWon || g.phase == GamePhase::kLost);
+      if (rounds == 1) warm = live_heap_bytes();
+    }
+  }
+  const std::size_t end = live_heap_bytes();
+  std::printf(
+      "soak: %ld frames, %d rounds, live heap %.1f MiB after the first, %.1f MiB at the end\n",
+      frames, rounds, warm / 1048576.0, end / 1048576.0);
+  ASSERT_GE(rounds, 1) << "the soak must cover at least one whole session";
+  EXPECT_LT(static_cast<double>(end), static_cast<double>(warm) + 4.0 * 1048576.0);
+}
+
+}  // namespace
+}  // namespace penumbra::game
