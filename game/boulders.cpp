@@ -173,6 +173,7 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
     b.radius = config.radius * (0.8f + 0.4f * static_cast<float>(i % 3) / 2.0f);
     b.scale = b.radius / m.radius;
     b.model_centre = m.centre;
+    b.model = i % 3 == 2 ? 1 : 0;
     glm::vec3 albedo = i % 2 ? glm::vec3(0.62f, 0.55f, 0.45f) : glm::vec3(0.5f, 0.5f, 0.52f);
     if (i < config.reflectors && config.reflectors >= 2 && i < 2) {
       // The colour-bleeding pair: red ahead, white on the next circle out, side by side.
@@ -199,10 +200,11 @@ void populate_boulders(ecs::World& world, const std::string& data_dir,
   }
 }
 
-void add_boulder_systems(jobs::Schedule& schedule) {
-  schedule.add_task("demo_boulders", [](jobs::SystemContext& ctx) { roll(ctx.world()); })
-      .reads<FrameTime, Terrain, Boulder>()
-      .writes<Transform>();
+void add_boulder_systems(jobs::Schedule& schedule, bool roll_on_circles) {
+  if (roll_on_circles)
+    schedule.add_task("demo_boulders", [](jobs::SystemContext& ctx) { roll(ctx.world()); })
+        .reads<FrameTime, Terrain, Boulder>()
+        .writes<Transform>();
   schedule
       .add_task("demo_boulder_spheres", [](jobs::SystemContext& ctx) { draw_spheres(ctx.world()); })
       .reads<Boulder, components::SphereSet, Transform, BoulderView>()

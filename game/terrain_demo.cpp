@@ -261,7 +261,7 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
         .reads<FrameTime, Terrain, DemoCameraMode, Boulder, components::Transform,
                components::Reflector>()
         .writes<Camera>();
-  add_boulder_systems(s);
+  add_boulder_systems(s, config.circling_boulders);
   if (config.gameplay) config.gameplay(s);
   add_probe_demo_systems(s);
   terrain_shadow::add_terrain_shadow_systems(s);

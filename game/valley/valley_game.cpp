@@ -13,11 +13,14 @@
 #include "penumbra/components/debug_shapes.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/frame_time.h"
+#include "penumbra/components/mesh.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
 #include "penumbra/data/height_field.h"
+#include "penumbra/data/mesh.h"
 #include "penumbra/game/boulders.h"
+#include "penumbra/game/ground_bodies.h"
 #include "penumbra/game/valley_rules.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "penumbra/systems/terrain_shadow/terrain_edit.h"
@@ -98,11 +101,9 @@ void rules(ecs::World& w, const ValleyConfig& c) {
   });
   if (!terrain) return;
   std::vector<Obstacle> obstacles;
-  w.query<const Boulder, const components::Transform>().each(
-      [&](const Boulder& b, const components::Transform& x) {
-        const glm::vec3 centre = glm::vec3(x.world * glm::vec4(b.model_centre, 1.0f));
-        obstacles.push_back({glm::vec2(centre), b.radius});
-      });
+  w.query<const GroundBody>().each([&](const GroundBody& b) {
+    obstacles.push_back({b.position, b.radius});
+  });
 
   glm::vec3 orb_at(0.0f);
   bool have_orb = false;
@@ -144,6 +145,32 @@ void rules(ecs::World& w, const ValleyConfig& c) {
   } else if (g.time_left <= 0.0f) {
     g.phase = GamePhase::kLost;
   }
+}
+
+// The boulders and creatures: their own motion, then contacts (with each other and the orb),
+// then the Transforms the blocker system and the renderer read.
+void move_bodies(ecs::World& w) {
+  const Terrain* terrain = find_terrain(w);
+  if (!terrain) return;
+  const components::FrameTime& time = w.resource<const FrameTime>();
+  std::vector<Obstacle> orbs;
+  w.query<const Orb, const SphericalLight>().each([&](const Orb& o, const SphericalLight& l) {
+    orbs.push_back({o.position, l.radius});
+  });
+  std::vector<GroundBody*> bodies;
+  std::vector<GroundBody> moved;
+  const BodyConfig config;
+  w.query<GroundBody>().each([&](GroundBody& b) {
+    step_body(b, *terrain, time.dt, time.frame, config);
+    bodies.push_back(&b);
+    moved.push_back(b);
+  });
+  separate_bodies(moved, orbs, *terrain);
+  for (std::size_t i = 0; i < bodies.size(); ++i) *bodies[i] = moved[i];
+  w.query<const GroundBody, const Boulder, components::Transform>().each(
+      [&](const GroundBody& b, const Boulder& boulder, components::Transform& out) {
+        out.world = body_transform(b, *terrain, boulder.scale, boulder.model_centre);
+      });
 }
 
 // Behind the orb along the heading, looking a little ahead of it.
@@ -214,7 +241,7 @@ const char* phase_name(GamePhase p) {
 }
 
 TerrainDemoConfig valley_world(TerrainDemoConfig demo, const ValleyConfig& config) {
-  demo.circling_light = demo.orbit_camera = false;
+  demo.circling_light = demo.orbit_camera = demo.circling_boulders = false;
   demo.edit_interval = 0;
   demo.gameplay = [config](jobs::Schedule& s) { add_valley_systems(s, config); };
   return demo;
@@ -252,6 +279,29 @@ void populate_valley(ecs::World& world, const ValleyConfig& c) {
                       components::DebugSphere{});
   }
   world.resource<GameState>().beacons_total = c.beacons;
+
+  // The demo's boulders as bodies on the ground: Suzannes roll, bunnies wander, starting where
+  // the demo's circles put them at t = 0.
+  std::vector<std::pair<ecs::Entity, GroundBody>> bodies;
+  std::uint32_t id = 0;
+  world.query<const Boulder, const components::MeshInstance>().each(
+      [&](ecs::Entity e, const Boulder& b, const components::MeshInstance& mesh) {
+        GroundBody body;
+        body.motion = b.model == 1 ? BodyMotion::kRoll : BodyMotion::kWander;
+        body.position = b.path_radius * glm::vec2(std::cos(b.phase), std::sin(b.phase));
+        body.heading = b.phase + 0.5f * std::numbers::pi_v<float>;
+        body.radius = b.radius;
+        body.lift = b.radius;
+        if (body.motion == BodyMotion::kWander && mesh.mesh && !mesh.mesh->positions.empty()) {
+          float lowest = 0.0f;  // glTF y up: the feet are the lowest y
+          for (const glm::vec3& p : mesh.mesh->positions)
+            lowest = std::min(lowest, (p.y - b.model_centre.y) * b.scale);
+          body.lift = -lowest;
+        }
+        body.id = ++id;
+        bodies.emplace_back(e, body);
+      });
+  for (auto& [e, body] : bodies) world.add(e, body);
 }
 
 void add_valley_systems(jobs::Schedule& s, const ValleyConfig& config) {
@@ -263,8 +313,11 @@ void add_valley_systems(jobs::Schedule& s, const ValleyConfig& config) {
      in = p->next < p->recording.steps.size() ? p->recording.steps[p->next] : GameInput{};
      ++p->next;
    }).writes<InputPlayback, GameInput>();
+  s.add_task("game_bodies", [](jobs::SystemContext& ctx) { move_bodies(ctx.world()); })
+      .reads<FrameTime, Terrain, Boulder, Orb, SphericalLight>()
+      .writes<GroundBody, components::Transform>();
   s.add_task("game_rules", [config](jobs::SystemContext& ctx) { rules(ctx.world(), config); })
-      .reads<FrameTime, GameInput, ValleyGround, Boulder, components::Transform>()
+      .reads<FrameTime, GameInput, ValleyGround, GroundBody>()
       .writes<GameState, Orb, Beacon, SphericalLight, Terrain>();
   s.add_task("game_markers", [config](jobs::SystemContext& ctx) { markers(ctx.world(), config); })
       .reads<Orb, Beacon, SphericalLight>()

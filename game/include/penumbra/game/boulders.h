@@ -53,11 +53,14 @@ struct Boulder {
   float radius = 0;              // bounding radius, metres (rests this high above the ground)
   float scale = 1;               // model units to metres
   glm::vec3 model_centre{0.0f};  // the sphere set's bounding centre, model units
+  int model = 0;                 // 0: the bunny, 1: Suzanne
 };
 
 // Loads the models from `data_dir`/models, fits or loads their sphere sets, and adds `count`
 // boulder entities. Throws assets::LoadError / FitError naming the file.
 void populate_boulders(ecs::World& world, const std::string& data_dir, const BoulderConfig& config);
-void add_boulder_systems(jobs::Schedule& schedule);
+// roll: demo_boulders moves them on their circles; false: another system (the valley game's
+// game_bodies) writes their Transforms.
+void add_boulder_systems(jobs::Schedule& schedule, bool roll = true);
 
 }  // namespace penumbra::game

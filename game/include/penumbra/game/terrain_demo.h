@@ -55,10 +55,11 @@ struct TerrainDemoConfig {
   terrain_shadow::TerrainShadowConfig shadow{};
   terrain_shadow::LightRefreshConfig light_refresh{};  // light re-shading per tile and frame
   BoulderConfig boulders{};                            // rolling blockers (boulders.h)
-  ProbeDemoConfig probes{};    // the probe cloud and the objects it lights (probe_demo.h)
-  bool follow_pair = false;    // start with the camera on the red-and-white boulder pair
-  bool circling_light = true;  // the demo's spherical light circling over the valley
-  bool orbit_camera = true;    // demo_camera; false: another system writes Camera
+  ProbeDemoConfig probes{};       // the probe cloud and the objects it lights (probe_demo.h)
+  bool follow_pair = false;       // start with the camera on the red-and-white boulder pair
+  bool circling_light = true;     // the demo's spherical light circling over the valley
+  bool orbit_camera = true;       // demo_camera; false: another system writes Camera
+  bool circling_boulders = true;  // demo_boulders; false: another system moves the boulders
   // Systems of a game played in this world (valley_game.h), scheduled after the demo's clock,
   // animation and boulders and before the lighting, so the lights shade this step's moves.
   std::function<void(jobs::Schedule&)> gameplay;

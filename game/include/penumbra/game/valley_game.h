@@ -4,15 +4,18 @@
 // push the orb away), digging or raising the ground under the orb where the way is steep.
 //
 // The world is the terrain demo's (terrain_demo.h: the DEM, the HDR sky and its sun, the
-// boulders, the probe-lit floaters) without the demo's circling light, automatic edits and
-// orbiting camera; these take their place. Rules are systems on the job graph, one fixed
-// step (FrameTime::dt) per frame, and read nothing but the simulation's own state and
-// GameInput, so a recorded session (game_input.h) replays bit-identically on any thread count.
+// boulders, the probe-lit floaters) without the demo's circling light and boulders, automatic
+// edits and orbiting camera; the game's systems take their place. Rules are systems on the job
+// graph, one fixed step (FrameTime::dt) per frame, and read nothing but the simulation's own state
+// and GameInput, so a recorded session (game_input.h) replays bit-identically on any thread count.
 //
 // Systems (add_valley_systems, after add_terrain_demo_systems' clock and boulders):
 //   game_input   reads InputPlayback; writes GameInput (the recording's next step; without
 //                a playback, whatever the window put there)
-//   game_rules   reads FrameTime, GameInput, Boulder, Transform; writes GameState, Orb,
+//   game_bodies  reads FrameTime, Terrain, Boulder, Orb, SphericalLight; writes GroundBody,
+//                Transform (the
+//                boulders roll downhill, the creatures wander: ground_bodies.h)
+//   game_rules   reads FrameTime, GameInput, ValleyGround, GroundBody; writes GameState, Orb,
 //                Beacon, SphericalLight, Terrain (phase changes, the orb's motion, beacons,
 //                edits, restoring the ground on restart: valley_rules.h)
 //   game_dusk    reads GameState, ValleyGround; writes EnvironmentLight, RenderSettings (the
