@@ -529,9 +529,13 @@ int run_window(const Options& o) {
     for (const jobs::SystemTiming& s : frame.systems)
       if (!s.sync)
         stats.systems.push_back({std::string(s.name), 1e-6 * static_cast<double>(s.duration_ns),
-                                 s.reported, s.done, s.skipped});
+                                 s.reported, s.done, s.skipped, /*pausable=*/true,
+                                 sim.schedule.paused(s.name)});
     stats.passes = renderer.last_pass_times();
     overlay.build(stats, settings.view);
+    // The panel's checkboxes freeze and resume systems from the next frame on.
+    for (const render::OverlaySystem& s : stats.systems)
+      if (s.paused != sim.schedule.paused(s.name)) sim.schedule.set_paused(s.name, s.paused);
     // The overlay's toggles apply to this frame already: a copy of the packet with them (the
     // extract stays the packet's only writer).
     render::RenderPacket packet = sim.world.resource<render::RenderPacket>();

@@ -135,6 +135,12 @@ void Executor::Impl::run_node(std::uint32_t k) {
   const auto t0 = Clock::now();
   timing.thread = slot();
   const std::uint64_t tick = tick_of(k);
+  timing.paused = false;
+  if (s.paused && s.kind != System::Kind::kSync) {  // Schedule::set_paused: nothing runs
+    timing.paused = true;
+    timing.start_ns = ns_between(frame_start, t0);
+    return;
+  }
   switch (s.kind) {
     case System::Kind::kSync: {
       const std::uint64_t saved = world->tick();

@@ -223,6 +223,21 @@ std::vector<Schedule::Node> reduced_nodes(const std::vector<System*>& list, cons
 
 }  // namespace
 
+bool Schedule::set_paused(std::string_view name, bool paused) {
+  for (const auto& s : systems_)
+    if (s->name == name && s->kind != System::Kind::kSync) {
+      s->paused = paused;
+      return true;
+    }
+  return false;
+}
+
+bool Schedule::paused(std::string_view name) const {
+  for (const auto& s : systems_)
+    if (s->name == name) return s->paused;
+  return false;
+}
+
 void Schedule::build() {
   const std::vector<System*> list = with_sync_points(systems_, auto_syncs_);
   EdgeMatrix edge = direct_edges(list, ordering_);

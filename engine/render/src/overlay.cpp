@@ -79,7 +79,7 @@ Overlay::~Overlay() {
   ImGui::DestroyContext();
 }
 
-void Overlay::build(const OverlayStats& stats, ViewSettings& view) {
+void Overlay::build(OverlayStats& stats, ViewSettings& view) {
   ImGui_ImplVulkan_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
@@ -106,9 +106,16 @@ void Overlay::build(const OverlayStats& stats, ViewSettings& view) {
   ImGui::Text("frame %.2f ms (%.0f fps)", stats.frame_ms,
               stats.frame_ms > 0 ? 1000.0 / stats.frame_ms : 0.0);
   for (const std::string& line : stats.lines) ImGui::Text("%s", line.c_str());
-  if (ImGui::CollapsingHeader("CPU systems (ms, items done / skipped)",
+  if (ImGui::CollapsingHeader("CPU systems (on, ms, items done / skipped)",
                               ImGuiTreeNodeFlags_DefaultOpen)) {
-    for (const OverlaySystem& s : stats.systems) {
+    for (OverlaySystem& s : stats.systems) {
+      if (s.pausable) {
+        bool on = !s.paused;
+        ImGui::PushID(s.name.c_str());
+        if (ImGui::Checkbox("##on", &on)) s.paused = !on;
+        ImGui::PopID();
+        ImGui::SameLine();
+      }
       if (s.reported)
         ImGui::Text("%-26s %7.3f %7llu / %-7llu", s.name.c_str(), s.ms,
                     static_cast<unsigned long long>(s.done),

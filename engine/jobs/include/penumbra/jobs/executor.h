@@ -36,6 +36,7 @@ struct SystemTiming {
   // reported == false: the system does not report.
   std::uint64_t done = 0, skipped = 0;
   bool reported = false;
+  bool paused = false;  // Schedule::set_paused: it ran nothing this frame
 };
 
 // One parallel-for task of a chunk system (recorded when task tracing is on).

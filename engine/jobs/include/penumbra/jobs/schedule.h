@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -118,6 +119,13 @@ class Schedule {
                            Done done);
   // An explicit sync point at this position.
   void add_sync_point(std::string name = "sync");
+
+  // Pauses or resumes the system called `name` (not a sync point) from the next frame on, between
+  // frames only; false when there is none. A paused system keeps its place in the graph and runs
+  // nothing: what it writes keeps its last values, and its "changed since my last run" stamp
+  // stays at its last real run.
+  bool set_paused(std::string_view name, bool paused);
+  bool paused(std::string_view name) const;
 
   // Builds the graph (done by the executor when systems changed). Throws std::invalid_argument
   // on unknown names in after()/before(), duplicate names, or a cycle.

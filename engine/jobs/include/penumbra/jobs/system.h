@@ -80,6 +80,9 @@ struct System {
       prepare;
   std::function<void(SystemContext&)> run_chunk;
   std::function<void(SystemContext&)> finish;  // optional
+  // Set between frames (Schedule::set_paused): the node still orders its neighbours but runs
+  // nothing, so what it writes keeps its last values (a debug switch: "freeze this system").
+  bool paused = false;
 };
 
 }  // namespace penumbra::jobs

@@ -35,6 +35,9 @@ struct OverlaySystem {
   double ms = 0;
   bool reported = false;
   std::uint64_t done = 0, skipped = 0;
+  // With `pausable`, the row has a checkbox: build() sets `paused` to what the user left it at
+  // (the caller pauses or resumes the system: jobs::Schedule::set_paused).
+  bool pausable = false, paused = false;
 };
 
 struct OverlayStats {
@@ -56,7 +59,9 @@ class Overlay {
   Overlay(const Overlay&) = delete;
   Overlay& operator=(const Overlay&) = delete;
 
-  void build(const OverlayStats& stats, ViewSettings& view);
+  // Builds this frame's UI; the view switches write `view`, the systems' checkboxes
+  // stats.systems[i].paused.
+  void build(OverlayStats& stats, ViewSettings& view);
   // Records the UI built by the last build() (nothing if none since the last record).
   void record(VkCommandBuffer cmd, const FrameImages& images);
 
