@@ -304,6 +304,11 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
                              extent * glm::vec2(i, j) / static_cast<float>(config.grid - 1);
         positions.emplace_back(xy, terrain_height(*terrain, xy) + h);
       }
+  const glm::vec2 centre = glm::vec2(terrain->origin) + 0.5f * extent;
+  for (const glm::vec3& p : config.extra_probes) {
+    const glm::vec2 xy = centre + extent * glm::vec2(p);
+    positions.emplace_back(xy, terrain_height(*terrain, xy) + p.z);
+  }
   probe_cloud::ProbeCloudBuildSettings build;
   build.bands = kBands;
   auto data = std::make_shared<ProbeSkyBake::Data>();

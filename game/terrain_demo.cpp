@@ -232,7 +232,9 @@ void populate_terrain_demo(ecs::World& world, const TerrainDemoConfig& config) {
   const float half = 0.5f * field->cell_size * (field->width - 1);
   // Vertical exaggeration 2: the DEM's 840 m of relief over 19 km reads better (a usual choice
   // for terrain views; the shadow system and the renderer both apply it).
-  world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}, 2.0f},
+  constexpr float kHeightScale = 2.0f;
+  if (config.shape_ground) config.shape_ground(*field, {-half, -half, 0.0f}, kHeightScale);
+  world.create_with(Terrain{field, {-half, -half, 0.0f}, {0.42f, 0.40f, 0.36f}, kHeightScale},
                     TerrainLighting{}, DebugLines{});
   blocker_accumulation::emplace_blocker_resources(world);
   spherical_lights::emplace_spherical_light_resources(world);

@@ -244,6 +244,17 @@ TerrainDemoConfig valley_world(TerrainDemoConfig demo, const ValleyConfig& confi
   demo.circling_light = demo.orbit_camera = demo.circling_boulders = false;
   demo.edit_interval = 0;
   demo.gameplay = [config](jobs::Schedule& s) { add_valley_systems(s, config); };
+  if (config.canyon) {
+    const CanyonConfig canyon = config.canyon_shape;
+    demo.shape_ground = [canyon](data::HeightField& f, glm::vec3 origin, float scale) {
+      carve_canyon(f, origin, scale, canyon);
+    };
+    // The probes along its floor, about every probe_spacing on the DEM's 74.4 m cells (the
+    // spacing only sets their count; where they go follows the terrain populated).
+    const float width = 74.4f * static_cast<float>(demo.terrain_size - 1);
+    const std::vector<glm::vec3> extra = canyon_probes(width, canyon);
+    demo.probes.extra_probes.insert(demo.probes.extra_probes.end(), extra.begin(), extra.end());
+  }
   return demo;
 }
 
@@ -279,6 +290,8 @@ void populate_valley(ecs::World& world, const ValleyConfig& c) {
                       components::DebugSphere{});
   }
   world.resource<GameState>().beacons_total = c.beacons;
+
+  if (c.canyon) add_canyon_arches(world, c.canyon_shape);
 
   // The demo's boulders as bodies on the ground: Suzannes roll, bunnies wander, starting where
   // the demo's circles put them at t = 0.

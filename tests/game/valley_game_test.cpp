@@ -5,18 +5,23 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
 
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/frame_time.h"
+#include "penumbra/components/probe_cloud_resource.h"
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/data/height_field.h"
 #include "penumbra/game/valley_rules.h"
 #include "penumbra/jobs/executor.h"
+
+#include <glm/geometric.hpp>
 
 namespace penumbra::game {
 namespace {
@@ -158,6 +163,43 @@ TEST(ValleyGame, AConfigItCannotPlayIsRefusedByName) {
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("beacons"), std::string::npos);
   }
+}
+
+// The canyon's probes (on its floor) see less sky than the valley's grid probes at a similar
+// height above the ground: the probe-lit objects darken as they go in.
+TEST(ValleyGame, TheCanyonDarkensTheProbesInIt) {
+  ecs::World world;
+  TerrainDemoConfig demo = valley_world(TerrainDemoConfig{});
+  demo.probes.sky_turns = false;  // one sky step is enough here
+  populate_terrain_demo(world, demo);
+  const auto& cloud = *world.resource<const components::ProbeCloudResource>().cloud;
+  const Terrain* terrain = nullptr;
+  world.query<const Terrain>().each([&](const Terrain& t) { terrain = &t; });
+  ASSERT_TRUE(terrain);
+  const CanyonConfig c;
+  const float width = terrain->heights->cell_size * (terrain->heights->width - 1);
+  glm::vec2 a, b;
+  canyon_axis(glm::vec2(terrain->origin) + 0.5f * width, width, c, a, b);
+  double inside = 0, outside = 0;
+  int n_in = 0, n_out = 0;
+  for (std::size_t i = 0; i < cloud.probe_count(); ++i) {
+    const glm::vec3 p = cloud.positions[i];
+    const float above = p.z - ground_height(*terrain, glm::vec2(p));
+    const glm::vec2 ab = b - a;
+    const float t = std::clamp(glm::dot(glm::vec2(p) - a, ab) / glm::dot(ab, ab), 0.0f, 1.0f);
+    const float from_axis = glm::length(glm::vec2(p) - (a + t * ab));
+    const float* sh = cloud.probe_sh(i);
+    const std::size_t per = static_cast<std::size_t>(cloud.bands * cloud.bands);
+    const double dc = 0.2126 * sh[0] + 0.7152 * sh[per] + 0.0722 * sh[2 * per];
+    if (from_axis < 50.0f && above < 150.0f) inside += dc, ++n_in;
+    if (from_axis > 3 * c.half_width && above < 150.0f) outside += dc, ++n_out;
+  }
+  ASSERT_GT(n_in, 5);
+  ASSERT_GT(n_out, 20);
+  std::printf("probe irradiance (DC luminance): canyon floor %.4f (%d probes), valley %.4f (%d)\n",
+              inside / n_in, n_in, outside / n_out, n_out);
+  EXPECT_LT(inside / n_in, 0.85 * (outside / n_out))
+      << "canyon " << inside / n_in << ", valley " << outside / n_out;
 }
 
 // The committed session (game/sessions/dusk_run.pinput) on the real valley with every lighting

@@ -53,6 +53,9 @@ struct ProbeDemoConfig {
   float hover = 260.0f;          // metres: the objects' centre above the highest ground under them
   float simplify_error = 0.02f;  // the meshes simplified as the boulders' (boulders.h)
   bool show = false;             // ProbeDebugView at start
+  // More probes, e.g. along a canyon's floor: (x, y) as fractions of the terrain's width from
+  // its centre, z the height above the ground there in metres.
+  std::vector<glm::vec3> extra_probes;
 };
 
 // Resource: the probe debug views (penumbra_play --probes-debug, key P in the window).

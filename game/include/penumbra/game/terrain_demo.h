@@ -32,6 +32,9 @@
 #include <string>
 
 #include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "penumbra/data/height_field.h"
 
 #include "penumbra/ecs/world.h"
 #include "penumbra/game/boulders.h"
@@ -63,6 +66,9 @@ struct TerrainDemoConfig {
   // Systems of a game played in this world (valley_game.h), scheduled after the demo's clock,
   // animation and boulders and before the lighting, so the lights shade this step's moves.
   std::function<void(jobs::Schedule&)> gameplay;
+  // Reshapes the cropped heights before anything sees them (the valley game's canyon):
+  // f(heights in field units, world origin of sample (0, 0), height scale).
+  std::function<void(data::HeightField&, glm::vec3, float)> shape_ground;
 };
 
 // Resource: what the demo's camera does: orbit the whole terrain, or follow the colour-bleeding

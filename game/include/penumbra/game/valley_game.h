@@ -33,6 +33,7 @@
 #include "penumbra/ecs/world.h"
 #include "penumbra/game/game_input.h"
 #include "penumbra/game/terrain_demo.h"
+#include "penumbra/game/valley_canyon.h"
 #include "penumbra/jobs/schedule.h"
 
 namespace penumbra::data {
@@ -70,6 +71,8 @@ struct ValleyConfig {
   // so the terrain is composed again once a step, not every frame.
   float night = 0.06f;
   float dusk_step = 1.02f;
+  bool canyon = true;  // the gorge with arches and probes along it (valley_canyon.h)
+  CanyonConfig canyon_shape{};
 };
 
 // Resource: the round. Scores are integers so that replays compare exactly.
