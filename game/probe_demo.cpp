@@ -327,6 +327,7 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
   data->inputs.steps = config.sky_steps;
   data->inputs.samples = config.samples;
   data->inputs.bounce = config.bounce;
+  if (config.bake_meshes) data->inputs.meshes = config.bake_meshes(*terrain);
   data->cache_dir = config.cache_dir;
   const std::vector<int> first = {0};
   ProbeSkySteps steps =

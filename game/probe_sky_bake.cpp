@@ -44,6 +44,8 @@ std::vector<float> bake_step(const ProbeSkyBakeInputs& in, std::span<const glm::
                              int k) {
   reference::SceneDesc desc;
   desc.height_fields.push_back({*in.field, in.origin, in.albedo});
+  for (const BakeMesh& m : in.meshes)
+    if (m.mesh) desc.meshes.push_back({*m.mesh, glm::mat4(1.0f), m.albedo});
   desc.environment =
       reference::EnvironmentLight{*in.map, 2 * std::numbers::pi_v<float> * static_cast<float>(k) /
                                                static_cast<float>(in.steps)};
@@ -90,6 +92,12 @@ std::uint64_t probe_sky_bake_key(const ProbeSkyBakeInputs& in,
   h.value(in.samples);
   h.value(in.bounce);
   h.value(in.seed);
+  for (const BakeMesh& m : in.meshes) {
+    if (!m.mesh) continue;
+    h.bytes(m.mesh->positions.data(), m.mesh->positions.size() * sizeof(glm::vec3));
+    h.bytes(m.mesh->indices.data(), m.mesh->indices.size() * sizeof(std::uint32_t));
+    h.value(m.albedo);
+  }
   return h.h;
 }
 

@@ -103,13 +103,9 @@ ArchShape make_arch(glm::vec3 base, glm::vec2 axis, float radius, float thicknes
   return s;
 }
 
-void add_canyon_arches(ecs::World& world, const CanyonConfig& c) {
-  const components::Terrain* terrain = nullptr;
-  world.query<const components::Terrain>().each([&](const components::Terrain& t) {
-    if (!terrain && t.heights) terrain = &t;
-  });
-  if (!terrain || c.arches < 1) return;
-  const components::Terrain t = *terrain;
+std::vector<ArchShape> canyon_arches(const components::Terrain& t, const CanyonConfig& c) {
+  std::vector<ArchShape> out;
+  if (!t.heights || c.arches < 1) return out;
   const float width = t.heights->cell_size * static_cast<float>(t.heights->width - 1);
   const glm::vec2 centre = glm::vec2(t.origin) + 0.5f * width;
   glm::vec2 a, b;
@@ -117,8 +113,19 @@ void add_canyon_arches(ecs::World& world, const CanyonConfig& c) {
   const glm::vec2 axis = glm::normalize(b - a);
   for (int k = 0; k < c.arches; ++k) {
     const glm::vec2 p = a + (b - a) * (static_cast<float>(k) + 1.0f) / (c.arches + 1.0f);
-    const ArchShape arch =
-        make_arch(glm::vec3(p, ground_height(t, p)), axis, c.arch_radius, c.arch_thickness);
+    out.push_back(
+        make_arch(glm::vec3(p, ground_height(t, p)), axis, c.arch_radius, c.arch_thickness));
+  }
+  return out;
+}
+
+void add_canyon_arches(ecs::World& world, const CanyonConfig& c) {
+  const components::Terrain* terrain = nullptr;
+  world.query<const components::Terrain>().each([&](const components::Terrain& t) {
+    if (!terrain && t.heights) terrain = &t;
+  });
+  if (!terrain) return;
+  for (const ArchShape& arch : canyon_arches(*terrain, c)) {
     auto points = std::make_shared<const std::vector<glm::vec3>>(arch.mesh->positions);
     auto normals = std::make_shared<const std::vector<glm::vec3>>(arch.mesh->normals);
     world.create_with(components::Transform{}, components::MeshInstance{arch.mesh},

@@ -254,6 +254,13 @@ TerrainDemoConfig valley_world(TerrainDemoConfig demo, const ValleyConfig& confi
     const float width = 74.4f * static_cast<float>(demo.terrain_size - 1);
     const std::vector<glm::vec3> extra = canyon_probes(width, canyon);
     demo.probes.extra_probes.insert(demo.probes.extra_probes.end(), extra.begin(), extra.end());
+    // The arches occlude the canyon's probes and reflect their sandstone colour in the bake.
+    demo.probes.bake_meshes = [canyon](const Terrain& t) {
+      std::vector<BakeMesh> meshes;
+      for (const ArchShape& a : canyon_arches(t, canyon))
+        meshes.push_back({a.mesh, canyon.arch_albedo});
+      return meshes;
+    };
   }
   return demo;
 }

@@ -147,6 +147,33 @@ TEST(ProbeSkyBake, BounceLightsTheUndersideAndTheSkyTurns) {
   EXPECT_GT(e(direct.sh[2], low, {-1, 0, 0}), 2 * e(direct.sh[2], low, {1, 0, 0}));
 }
 
+// A static mesh (a roof over a probe) occludes the sky there and is part of the cache key; a
+// probe away from it is unchanged.
+TEST(ProbeSkyBake, StaticMeshesOccludeAndChangeTheKey) {
+  const auto f = make();
+  auto roof = std::make_shared<data::MeshData>();
+  // A roof 10 m above the probe at (30, 40, 25), reaching 70 m past it towards the low sun (+x)
+  // and at least 80 m the other ways, facing down and up (two triangles each).
+  roof->positions = {{-70, -60, 35}, {100, -60, 35}, {100, 100, 35}, {-70, 100, 35}};
+  roof->indices = {0, 1, 2, 0, 2, 3, 0, 2, 1, 0, 3, 2};
+  ProbeSkyBakeInputs covered = f->in;
+  covered.meshes.push_back({roof, glm::vec3(0.9f, 0.1f, 0.1f)});
+  EXPECT_NE(probe_sky_bake_key(covered, f->cloud.positions),
+            probe_sky_bake_key(f->in, f->cloud.positions));
+  const ProbeSkySteps open = bake_probe_sky_steps(f->in, f->cloud, {});
+  const ProbeSkySteps shut = bake_probe_sky_steps(covered, f->cloud, {});
+  const auto up = [](const std::vector<float>& sh, std::size_t p) {  // green, facing up
+    const sh::Coeffs<3> y = sh::eval_basis<3>(glm::vec3(0, 0, 1));
+    double s = 0;
+    for (int k = 0; k < 9; ++k) s += sh[p * 27 + 9 + k] * y[k];
+    return s;
+  };
+  const std::size_t low = 0;  // (30, 40, 25): under the roof
+  EXPECT_LT(up(shut.sh[0], low), 0.5 * up(open.sh[0], low));
+  const std::size_t far = 3;  // (130, 120, 25): beyond its corner, the sun in view
+  EXPECT_GT(up(shut.sh[0], far), 0.6 * up(open.sh[0], far));
+}
+
 TEST(ProbeSkyBake, BadInputsAreRejected) {
   PENUMBRA_STABILITY("no sky map, 0 sky steps, a step index out of range", "std::invalid_argument",
                      "-");

@@ -28,14 +28,17 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "penumbra/components/terrain.h"
 #include "penumbra/data/environment_map.h"
 #include "penumbra/ecs/world.h"
+#include "penumbra/game/probe_sky_bake.h"
 #include "penumbra/jobs/schedule.h"
 
 namespace penumbra::game {
@@ -56,6 +59,8 @@ struct ProbeDemoConfig {
   // More probes, e.g. along a canyon's floor: (x, y) as fractions of the terrain's width from
   // its centre, z the height above the ground there in metres.
   std::vector<glm::vec3> extra_probes;
+  // Static meshes for the bake (occluders and reflectors), from the terrain as populated.
+  std::function<std::vector<BakeMesh>(const components::Terrain&)> bake_meshes;
 };
 
 // Resource: the probe debug views (penumbra_play --probes-debug, key P in the window).

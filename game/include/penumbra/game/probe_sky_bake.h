@@ -21,6 +21,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -29,11 +30,19 @@
 
 #include "penumbra/data/environment_map.h"
 #include "penumbra/data/height_field.h"
+#include "penumbra/data/mesh.h"
 #include "penumbra/data/probe_cloud.h"
 
 namespace penumbra::game {
 
 inline constexpr std::uint32_t kProbeSkyBakeVersion = 1;
+
+// A static mesh in the bake (world frame): it occludes the sky and, with the bounce, reflects
+// with its albedo (the valley game's canyon arches).
+struct BakeMesh {
+  std::shared_ptr<const data::MeshData> mesh;
+  glm::vec3 albedo{0.5f};
+};
 
 struct ProbeSkyBakeInputs {
   const data::HeightField* field = nullptr;  // heights as the terrain system sees them (scaled)
@@ -42,8 +51,9 @@ struct ProbeSkyBakeInputs {
   const data::EnvironmentMap* map = nullptr;
   int steps = 64;      // sky rotations, 2 pi / steps apart (>= 1)
   int samples = 256;   // capture samples per probe and step (>= 2)
-  bool bounce = true;  // one diffuse bounce off the terrain
+  bool bounce = true;  // one diffuse bounce off the terrain (and the meshes)
   std::uint64_t seed = 1;
+  std::vector<BakeMesh> meshes;  // part of the cache key
 };
 
 struct ProbeSkySteps {

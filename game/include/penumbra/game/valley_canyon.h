@@ -15,6 +15,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "penumbra/components/terrain.h"
 #include "penumbra/data/height_field.h"
 #include "penumbra/data/mesh.h"
 #include "penumbra/data/sphere_set.h"
@@ -57,6 +58,10 @@ struct ArchShape {
   std::shared_ptr<std::vector<data::Sphere>> spheres;
 };
 ArchShape make_arch(glm::vec3 base, glm::vec2 axis, float radius, float thickness);
+
+// The arches over the carved canyon of `terrain` (world frame), evenly along its axis.
+std::vector<ArchShape> canyon_arches(const components::Terrain& terrain,
+                                     const CanyonConfig& config);
 
 // Adds the arches over the carved canyon of the world's terrain: static blockers and receivers
 // (SphereSet, Receiver, ReceiverLighting, VertexLighting), drawn as meshes.
