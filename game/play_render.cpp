@@ -313,6 +313,11 @@ int run_headless(const Options& o) {
   renderer.set_timing_interval(0);  // until the GPU-timed frames (below)
   render::OffscreenTarget target(static_cast<std::uint32_t>(o.width),
                                  static_cast<std::uint32_t>(o.height));
+  std::unique_ptr<render::Overlay> hud;  // the game's HUD on its screenshots
+  if (sim.valley && !o.out.empty() && o.screenshots > 0)
+    hud = std::make_unique<render::Overlay>(
+        device,
+        VkExtent2D{static_cast<std::uint32_t>(o.width), static_cast<std::uint32_t>(o.height)});
 
   // Screenshot frames: spread from the first after warm-up to the last.
   std::vector<int> shots;
@@ -347,7 +352,18 @@ int run_headless(const Options& o) {
     const render::RenderPacket& packet = sim.world.resource<render::RenderPacket>();
     const auto t1 = Clock::now();
     if (std::find(shots.begin(), shots.end(), f) != shots.end()) {
-      const auto image = renderer.capture(packet, target);
+      // The game's screenshots show its HUD (title, score, end screen) as the window does.
+      render::Overlay* over = nullptr;
+      if (hud) {
+        render::OverlayStats s;
+        s.panel = false;
+        s.hud = sim.valley->hud(sim.world);
+        render::ViewSettings view = packet.view;
+        hud->build(s, view);  // twice: ImGui sizes an auto-resized window from its last frame
+        hud->build(s, view);
+        over = hud.get();
+      }
+      const auto image = renderer.capture(packet, target, over);
       char name[32];
       std::snprintf(name, sizeof name, "frame_%04d.png", f);
       if (image) {

@@ -16,6 +16,15 @@ void check_imgui(VkResult r) {
 }  // namespace
 
 Overlay::Overlay(Device& device, Window& window) : device_(&device) {
+  init(&window);
+}
+
+Overlay::Overlay(Device& device, VkExtent2D size) : device_(&device), size_(size) {
+  init(nullptr);
+}
+
+void Overlay::init(Window* window) {
+  Device& device = *device_;
   const VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4}};
   VkDescriptorPoolCreateInfo pool =
       vk_struct<VkDescriptorPoolCreateInfo>(VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO);
@@ -55,7 +64,10 @@ Overlay::Overlay(Device& device, Window& window) : device_(&device) {
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini next to the binary
   ImGui::StyleColorsDark();
-  ImGui_ImplGlfw_InitForVulkan(window.glfw(), true);
+  if (window) {
+    ImGui_ImplGlfw_InitForVulkan(window->glfw(), true);
+    glfw_ = true;
+  }
   ImGui_ImplVulkan_InitInfo info{};
   info.Instance = device.instance().handle();
   info.PhysicalDevice = device.physical();
@@ -75,13 +87,19 @@ Overlay::Overlay(Device& device, Window& window) : device_(&device) {
 Overlay::~Overlay() {
   vkDeviceWaitIdle(device_->handle());
   ImGui_ImplVulkan_Shutdown();
-  ImGui_ImplGlfw_Shutdown();
+  if (glfw_) ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
 }
 
 void Overlay::build(OverlayStats& stats, ViewSettings& view) {
   ImGui_ImplVulkan_NewFrame();
-  ImGui_ImplGlfw_NewFrame();
+  if (glfw_) {
+    ImGui_ImplGlfw_NewFrame();
+  } else {
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(static_cast<float>(size_.width), static_cast<float>(size_.height));
+    io.DeltaTime = 1.0f / 30.0f;
+  }
   ImGui::NewFrame();
   if (!stats.hud.empty()) {
     const ImGuiViewport* vp = ImGui::GetMainViewport();

@@ -54,7 +54,11 @@ struct OverlayStats {
 
 class Overlay {
  public:
+  // In a window: input and the display size from GLFW.
   Overlay(Device& device, Window& window);
+  // Offscreen (a headless run's screenshots): no input, a display of `size` pixels, 1/30 s a
+  // frame. One ImGui context per process: at most one Overlay at a time.
+  Overlay(Device& device, VkExtent2D size);
   ~Overlay();
   Overlay(const Overlay&) = delete;
   Overlay& operator=(const Overlay&) = delete;
@@ -72,6 +76,10 @@ class Overlay {
   Unique<VkFramebuffer> framebuffer_;
   std::uint64_t framebuffer_generation_ = 0;
   bool built_ = false;
+  bool glfw_ = false;
+  VkExtent2D size_{0, 0};
+
+  void init(Window* window);
 };
 
 }  // namespace penumbra::render
