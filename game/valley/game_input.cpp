@@ -1,7 +1,5 @@
 #include "penumbra/game/game_input.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -10,6 +8,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "penumbra/assets/atomic_write.h"
 #include "penumbra/assets/checksum.h"
 #include "penumbra/assets/load_error.h"
 
@@ -119,23 +118,7 @@ InputRecording load_input_recording(const std::filesystem::path& file) {
 }
 
 void save_input_recording(const InputRecording& recording, const std::filesystem::path& file) {
-  const std::string bytes = encode_input_recording(recording);
-  const std::filesystem::path tmp =
-      file.string() + ".tmp." + std::to_string(static_cast<long>(::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!(out << bytes) || !out.flush()) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error(file.string() + ": cannot write " + tmp.string());
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);  // atomic replace on POSIX
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(file.string() + ": cannot rename the temporary file into place");
-  }
+  assets::write_file_atomic(file, encode_input_recording(recording));
 }
 
 }  // namespace penumbra::game

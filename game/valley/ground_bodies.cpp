@@ -8,22 +8,13 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "penumbra/data/height_field.h"
+#include "random_bits.h"
 
 namespace penumbra::game {
 namespace {
 
-// lowbias32 (as valley_rules.cpp): the same bits on every platform.
-std::uint32_t mix(std::uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-float unit(std::uint32_t bits) {
-  return static_cast<float>(bits >> 8) / 16777216.0f;
-}
+using detail::mix_bits;
+using detail::unit_float;
 
 // Relaxation passes over the contacts: a push can open another overlap; four leave at most a
 // sixteenth of it in the worst chain of three.
@@ -45,13 +36,13 @@ void bounds(const components::Terrain& t, float margin, glm::vec2& lo, glm::vec2
 void restart_on_a_ridge(GroundBody& b, const components::Terrain& t) {
   glm::vec2 lo, hi;
   bounds(t, b.radius, lo, hi);
-  std::uint32_t s = mix(b.id * 0x9e3779b9U + ++b.restarts);
+  std::uint32_t s = mix_bits(b.id * 0x9e3779b9U + ++b.restarts);
   float best = -1e30f;
   for (int k = 0; k < 8; ++k) {
-    s = mix(s + 1);
-    const float u = unit(s);
-    s = mix(s + 1);
-    const glm::vec2 p = lo + (hi - lo) * glm::vec2(u, unit(s));
+    s = mix_bits(s + 1);
+    const float u = unit_float(s);
+    s = mix_bits(s + 1);
+    const glm::vec2 p = lo + (hi - lo) * glm::vec2(u, unit_float(s));
     const float h = ground_height(t, p);
     if (h > best) best = h, b.position = p;
   }
@@ -84,7 +75,8 @@ void step_body(GroundBody& b, const components::Terrain& t, float dt, std::uint6
   // Wandering: a new turn rate every two seconds from the body's stream; away from climbs
   // steeper than `steep` and from the field's edge.
   const std::uint32_t period = static_cast<std::uint32_t>(step / 60);
-  float turn = c.wander_turn * (2.0f * unit(mix(b.id * 0x85ebca6bU ^ mix(period))) - 1.0f);
+  float turn =
+      c.wander_turn * (2.0f * unit_float(mix_bits(b.id * 0x85ebca6bU ^ mix_bits(period))) - 1.0f);
   const glm::vec2 dir(std::cos(b.heading), std::sin(b.heading));
   if (glm::dot(ground_slope(t, b.position), dir) > c.steep) turn = c.wander_turn;
   if (t.heights) {

@@ -7,9 +7,13 @@
 #include <glm/geometric.hpp>
 
 #include "penumbra/data/height_field.h"
+#include "random_bits.h"
 
 namespace penumbra::game {
 namespace {
+
+using detail::mix_bits;
+using detail::unit_float;
 
 bool finite(glm::vec2 v) {
   return std::isfinite(v.x) && std::isfinite(v.y);
@@ -23,19 +27,6 @@ glm::vec2 field_max(const components::Terrain& t) {
   const data::HeightField& f = *t.heights;
   return glm::vec2(t.origin) + f.cell_size * glm::vec2(f.width - 1, f.height - 1);
 }
-
-// A 32-bit hash step (xorshift-multiply, "lowbias32"): the same bits on every platform.
-std::uint32_t mix(std::uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
-float unit(std::uint32_t bits) {
-  return static_cast<float>(bits >> 8) / 16777216.0f;
-}  // [0, 1)
 
 }  // namespace
 
@@ -142,12 +133,13 @@ std::vector<glm::vec2> beacon_sites(const components::Terrain& terrain, const Va
   const glm::vec2 lo = field_min(terrain), hi = field_max(terrain);
   const glm::vec2 centre = 0.5f * (lo + hi);
   const float width = std::min(hi.x - lo.x, hi.y - lo.y);
-  std::uint32_t s = mix(c.seed ^ 0x9e3779b9U);
+  std::uint32_t s = mix_bits(c.seed ^ 0x9e3779b9U);
   for (int k = 0; k < c.beacons; ++k) {
-    s = mix(s + 1);
-    const float jitter = unit(s) - 0.5f;
-    s = mix(s + 1);
-    const float r = width * (c.beacon_ring_min + (c.beacon_ring_max - c.beacon_ring_min) * unit(s));
+    s = mix_bits(s + 1);
+    const float jitter = unit_float(s) - 0.5f;
+    s = mix_bits(s + 1);
+    const float r =
+        width * (c.beacon_ring_min + (c.beacon_ring_max - c.beacon_ring_min) * unit_float(s));
     const float a = 2 * std::numbers::pi_v<float> * (static_cast<float>(k) + 0.6f * jitter) /
                     static_cast<float>(c.beacons);
     sites.push_back(centre + r * glm::vec2(std::cos(a), std::sin(a)));

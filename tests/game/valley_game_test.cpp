@@ -20,6 +20,7 @@
 #include "penumbra/data/height_field.h"
 #include "penumbra/game/valley_rules.h"
 #include "penumbra/jobs/executor.h"
+#include "valley_replay.h"
 
 #include <glm/geometric.hpp>
 
@@ -211,19 +212,11 @@ struct Outcome {
 };
 
 Outcome replay(int threads) {
-  ecs::World world;
-  TerrainDemoConfig demo = valley_world(TerrainDemoConfig{});
+  TerrainDemoConfig demo;
   demo.probes.count = 0;  // the floaters only read the game's world: probe_demo_test covers them
-  populate_terrain_demo(world, demo);
-  populate_valley(world);
-  world.emplace_resource<InputPlayback>(InputPlayback{
-      load_input_recording(std::string(PENUMBRA_SOURCE_DIR) + "/game/sessions/dusk_run.pinput"),
-      0});
-  jobs::Schedule schedule;
-  add_terrain_demo_systems(schedule, demo);
-  jobs::Executor executor(threads);
-  const std::size_t steps = world.resource<const InputPlayback>().recording.steps.size();
-  for (std::size_t i = 0; i < steps; ++i) executor.run(schedule, world);
+  test::ValleyReplay r(threads, demo);
+  for (std::size_t i = 0, n = r.steps(); i < n; ++i) r.step();
+  ecs::World& world = r.world;
   Outcome o;
   o.state = world.resource<const GameState>();
   world.query<const Orb>().each([&](const Orb& orb) { o.orb = orb; });

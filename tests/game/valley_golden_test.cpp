@@ -13,30 +13,24 @@
 #include "penumbra/render/renderer.h"
 #include "penumbra/systems/render_extract/render_extract.h"
 #include "render_test_util.h"
+#include "valley_replay.h"
 
 namespace penumbra::game {
 namespace {
 
 TEST(ValleyGolden, TheRecordedSessionAtFixedFrames) {
-  ecs::World world;
-  TerrainDemoConfig demo = valley_world(TerrainDemoConfig{});
+  TerrainDemoConfig demo;
   demo.probes.cache_dir = std::string(PENUMBRA_TEST_OUTPUT_DIR) + "/valley_probes";
   demo.boulders.cache_dir = std::string(PENUMBRA_TEST_OUTPUT_DIR) + "/valley_spheres";
-  populate_terrain_demo(world, demo);
-  populate_valley(world);
-  world.emplace_resource<InputPlayback>(InputPlayback{
-      load_input_recording(std::string(PENUMBRA_SOURCE_DIR) + "/game/sessions/dusk_run.pinput"),
-      0});
-  jobs::Schedule schedule;
-  add_terrain_demo_systems(schedule, demo);
-  jobs::Executor executor(2);
+  test::ValleyReplay replay(2, demo);
+  ecs::World& world = replay.world;
 
   render::test::TestContext ctx;
   render::Renderer renderer(ctx.device);
   render::OffscreenTarget target(192, 108);
   int frame = 0;
   for (const int shot : {30, 420, 780}) {
-    for (; frame <= shot; ++frame) executor.run(schedule, world);
+    for (; frame <= shot; ++frame) replay.step();
     const auto image = renderer.capture(world.resource<render::RenderPacket>(), target);
     ASSERT_TRUE(image.has_value());
     char name[32];

@@ -14,6 +14,7 @@
 
 #include "penumbra/game/valley_game.h"
 #include "penumbra/jobs/executor.h"
+#include "valley_replay.h"
 
 #if defined(__SANITIZE_ADDRESS__)
 #define PENUMBRA_ASAN 1
@@ -41,27 +42,19 @@ TEST(ValleySoak, RoundAfterRoundTheHeapStaysFlat) {
   const char* env = std::getenv("PENUMBRA_SOAK_FRAMES");
   const long frames = env ? std::strtol(env, nullptr, 10) : 1800;
   ASSERT_GT(frames, 0) << "PENUMBRA_SOAK_FRAMES must be a positive frame count";
-  ecs::World world;
-  TerrainDemoConfig demo = valley_world(TerrainDemoConfig{});
+  TerrainDemoConfig demo;
   demo.probes.count = 0;  // the floaters' probe bake is start-up work, not per-frame
-  populate_terrain_demo(world, demo);
-  populate_valley(world);
-  world.emplace_resource<InputPlayback>(InputPlayback{
-      load_input_recording(std::string(PENUMBRA_SOURCE_DIR) + "/game/sessions/dusk_run.pinput"),
-      0});
-  jobs::Schedule schedule;
-  add_terrain_demo_systems(schedule, demo);
-  jobs::Executor executor(2);
-  InputPlayback& playback = world.resource<InputPlayback>();
+  test::ValleyReplay replay(2, demo);
+  InputPlayback& playback = replay.playback();
   const std::size_t round = playback.recording.steps.size();
   std::size_t warm = 0;
   int rounds = 0;
   for (long f = 0; f < frames; ++f) {
-    executor.run(schedule, world);
+    replay.step();
     if (playback.next >= round) {  // the session ended (won): its Start begins the next round
       playback.next = 0;
       ++rounds;
-      const GameState& g = world.resource<const GameState>();
+      const GameState& g = replay.world.resource<const GameState>();
       EXPECT_TRUE(g.phase == GamePhase::kWon || g.phase == GamePhase::kLost);
       if (rounds == 1) warm = live_heap_bytes();
     }

@@ -30,17 +30,22 @@ struct Visited {
 
 class ExecutorTest : public ::testing::TestWithParam<int> {};
 
+// "bump" increments the Counter resource, "read" then records its value into `seen`.
+void add_bump_and_read(Schedule& s, std::vector<int>& seen) {
+  s.add_task("bump", [](SystemContext& ctx) {
+     ++ctx.world().resource<Counter>().value;
+   }).writes<Counter>();
+  s.add_task("read", [&seen](SystemContext& ctx) {
+     seen.push_back(ctx.world().resource<const Counter>().value);
+   }).reads<Counter>();
+}
+
 TEST_P(ExecutorTest, WriterRunsBeforeReaderEveryFrame) {
   ecs::World w;
   w.emplace_resource<Counter>();
   std::vector<int> seen;
   Schedule s;
-  s.add_task("bump", [](SystemContext& ctx) {
-     ++ctx.world().resource<Counter>().value;
-   }).writes<Counter>();
-  s.add_task("read", [&](SystemContext& ctx) {
-     seen.push_back(ctx.world().resource<const Counter>().value);
-   }).reads<Counter>();
+  add_bump_and_read(s, seen);
   Executor ex(GetParam());
   for (int f = 0; f < 50; ++f) ex.run(s, w);
   ASSERT_EQ(seen.size(), 50u);
@@ -54,12 +59,7 @@ TEST_P(ExecutorTest, APausedSystemRunsNothingUntilResumed) {
   w.emplace_resource<Counter>();
   std::vector<int> seen;
   Schedule s;
-  s.add_task("bump", [](SystemContext& ctx) {
-     ++ctx.world().resource<Counter>().value;
-   }).writes<Counter>();
-  s.add_task("read", [&](SystemContext& ctx) {
-     seen.push_back(ctx.world().resource<const Counter>().value);
-   }).reads<Counter>();
+  add_bump_and_read(s, seen);
   Executor ex(GetParam());
   ex.run(s, w);
   EXPECT_TRUE(s.set_paused("bump", true));

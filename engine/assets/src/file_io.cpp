@@ -52,6 +52,10 @@ std::vector<unsigned char> read_file(const std::filesystem::path& path) {
   return bytes;
 }
 
+}  // namespace penumbra::assets::detail
+
+namespace penumbra::assets {
+
 void write_file_atomic(const std::filesystem::path& path, std::span<const unsigned char> bytes) {
   const std::string tmp = path.string() + ".tmp." + std::to_string(::getpid());
   const auto fail = [&](const std::string& what, int err) {
@@ -67,4 +71,4 @@ void write_file_atomic(const std::filesystem::path& path, std::span<const unsign
   if (std::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp, errno);
 }
 
-}  // namespace penumbra::assets::detail
+}  // namespace penumbra::assets

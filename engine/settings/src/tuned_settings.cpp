@@ -1,7 +1,5 @@
 #include "penumbra/settings/tuned_settings.h"
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -15,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "penumbra/assets/atomic_write.h"
 #include "penumbra/assets/checksum.h"
 #include "penumbra/assets/load_error.h"
 
@@ -307,25 +306,7 @@ TunedSettings load_settings(const std::filesystem::path& file) {
 }
 
 void save_settings(const std::filesystem::path& file, const TunedSettings& settings) {
-  const std::string bytes = encode_settings(settings);
-  const std::filesystem::path tmp =
-      file.string() + ".tmp." + std::to_string(static_cast<long>(::getpid()));
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error(file.string() + ": cannot write " + tmp.string());
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);  // atomic replace on POSIX
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(file.string() + ": cannot rename the temporary file into place");
-  }
+  assets::write_file_atomic(file, encode_settings(settings));
 }
 
 }  // namespace penumbra::settings
