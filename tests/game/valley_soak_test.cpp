@@ -8,6 +8,7 @@
 
 #include <malloc.h>
 
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -24,7 +25,8 @@
 #endif
 #endif
 #ifdef PENUMBRA_ASAN
-#include <sanitizer/allocator_interface.h>
+// The sanitizer runtime's (declared by hand: GCC ships no sanitizer/allocator_interface.h).
+extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 #endif
 
 namespace penumbra::game {
