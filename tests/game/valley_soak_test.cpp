@@ -1,7 +1,7 @@
-// Soak: the committed session replayed round after round through every system (no renderer: its
+// Soak: the committed session replayed again and again through every system (no renderer: its
 // own soak is tests/render/soak_test.cpp), 1,800 frames by default (a minute of game time; set
 // PENUMBRA_SOAK_FRAMES=9000 for the five minutes of issue 16, e.g. under ASan). The live heap
-// must stay flat after the first round: allocated bytes (the sanitizer allocator's under ASan,
+// must stay flat after the first replay: allocated bytes (the sanitizer allocator's under ASan,
 // glibc's otherwise, so ASan's quarantine does not count) grow by less than 4 MiB from the end
 // of the first replay to the end.
 #include <gtest/gtest.h>
@@ -53,19 +53,25 @@ TEST(ValleySoak, RoundAfterRoundTheHeapStaysFlat) {
   int rounds = 0;
   for (long f = 0; f < frames; ++f) {
     replay.step();
-    if (playback.next >= round) {  // the session ended (won): its Start begins the next round
+    if (playback.next >= round) {  // the recording ran out: it starts again
       playback.next = 0;
       ++rounds;
-      const GameState& g = replay.world.resource<const GameState>();
-      EXPECT_TRUE(g.phase == GamePhase::kWon || g.phase == GamePhase::kLost);
-      if (rounds == 1) warm = live_heap_bytes();
+      // The first replay wins as recorded. Later ones meet the boulders and creatures elsewhere
+      // (the world's clock has moved on), so the same input plays on, until night ends that
+      // round and the recording's Start begins another.
+      if (rounds == 1) {
+        EXPECT_EQ(replay.world.resource<const GameState>().phase, GamePhase::kWon);
+        warm = live_heap_bytes();
+      }
     }
   }
   const std::size_t end = live_heap_bytes();
   std::printf(
-      "soak: %ld frames, %d rounds, live heap %.1f MiB after the first, %.1f MiB at the end\n",
-      frames, rounds, warm / 1048576.0, end / 1048576.0);
-  ASSERT_GE(rounds, 1) << "the soak must cover at least one whole session";
+      "soak: %ld frames, %d replays, %d rounds started, live heap %.1f MiB after the first "
+      "replay, %.1f MiB at the end\n",
+      frames, rounds, replay.world.resource<const GameState>().rounds, warm / 1048576.0,
+      end / 1048576.0);
+  ASSERT_GE(rounds, 1) << "the soak must cover at least one whole replay";
   EXPECT_LT(static_cast<double>(end), static_cast<double>(warm) + 4.0 * 1048576.0);
 }
 
