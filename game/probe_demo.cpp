@@ -66,7 +66,6 @@ using components::Transform;
 using components::VertexLighting;
 
 constexpr int kBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
-constexpr int kCoeffs = kBands * kBands;
 
 int sky_shift(float rotation, int w) {
   const float step = 2 * std::numbers::pi_v<float> / static_cast<float>(w);

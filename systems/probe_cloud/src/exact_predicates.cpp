@@ -463,10 +463,6 @@ double insphere_exact_estimate(const glm::dvec3& a, const glm::dvec3& b, const g
   return det.estimate();
 }
 
-inline int sign_of(double v) {
-  return (v > 0) - (v < 0);
-}
-
 }  // namespace
 
 double orient3d(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
