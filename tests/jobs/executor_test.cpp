@@ -30,49 +30,48 @@ struct Visited {
 
 class ExecutorTest : public ::testing::TestWithParam<int> {};
 
-// "bump" increments the Counter resource, "read" then records its value into `seen`.
-void add_bump_and_read(Schedule& s, std::vector<int>& seen) {
-  s.add_task("bump", [](SystemContext& ctx) {
-     ++ctx.world().resource<Counter>().value;
-   }).writes<Counter>();
-  s.add_task("read", [&seen](SystemContext& ctx) {
-     seen.push_back(ctx.world().resource<const Counter>().value);
-   }).reads<Counter>();
-}
-
-TEST_P(ExecutorTest, WriterRunsBeforeReaderEveryFrame) {
+// Two systems: "bump" increments the Counter resource, "read" then records its value.
+struct BumpAndRead {
   ecs::World w;
-  w.emplace_resource<Counter>();
   std::vector<int> seen;
   Schedule s;
-  add_bump_and_read(s, seen);
-  Executor ex(GetParam());
-  for (int f = 0; f < 50; ++f) ex.run(s, w);
-  ASSERT_EQ(seen.size(), 50u);
-  for (int f = 0; f < 50; ++f) EXPECT_EQ(seen[f], f + 1);
+  Executor ex;
+
+  explicit BumpAndRead(int threads) : ex(threads) {
+    w.emplace_resource<Counter>();
+    s.add_task("bump", [](SystemContext& ctx) {
+       ++ctx.world().resource<Counter>().value;
+     }).writes<Counter>();
+    s.add_task("read", [this](SystemContext& ctx) {
+       seen.push_back(ctx.world().resource<const Counter>().value);
+     }).reads<Counter>();
+  }
+  void frame() { ex.run(s, w); }
+};
+
+TEST_P(ExecutorTest, WriterRunsBeforeReaderEveryFrame) {
+  BumpAndRead t(GetParam());
+  for (int f = 0; f < 50; ++f) t.frame();
+  ASSERT_EQ(t.seen.size(), 50u);
+  for (int f = 0; f < 50; ++f) EXPECT_EQ(t.seen[f], f + 1);
 }
 
 // A paused system runs nothing (its output keeps its last value), still orders its readers, and
-// picks up where it was when resumed; a sync point or an unknown name cannot be paused.
+// picks up where it was when resumed; an unknown name cannot be paused.
 TEST_P(ExecutorTest, APausedSystemRunsNothingUntilResumed) {
-  ecs::World w;
-  w.emplace_resource<Counter>();
-  std::vector<int> seen;
-  Schedule s;
-  add_bump_and_read(s, seen);
-  Executor ex(GetParam());
-  ex.run(s, w);
-  EXPECT_TRUE(s.set_paused("bump", true));
-  EXPECT_TRUE(s.paused("bump"));
-  ex.run(s, w);
-  ex.run(s, w);
-  EXPECT_TRUE(ex.last_frame().systems[0].paused);
-  EXPECT_FALSE(ex.last_frame().systems[1].paused);
-  EXPECT_TRUE(s.set_paused("bump", false));
-  ex.run(s, w);
-  EXPECT_FALSE(ex.last_frame().systems[0].paused);
-  EXPECT_EQ(seen, (std::vector<int>{1, 1, 1, 2}));
-  EXPECT_FALSE(s.set_paused("nope", true));
+  BumpAndRead t(GetParam());
+  t.frame();
+  EXPECT_TRUE(t.s.set_paused("bump", true));
+  EXPECT_TRUE(t.s.paused("bump"));
+  t.frame();
+  t.frame();
+  EXPECT_TRUE(t.ex.last_frame().systems[0].paused);
+  EXPECT_FALSE(t.ex.last_frame().systems[1].paused);
+  EXPECT_TRUE(t.s.set_paused("bump", false));
+  t.frame();
+  EXPECT_FALSE(t.ex.last_frame().systems[0].paused);
+  EXPECT_EQ(t.seen, (std::vector<int>{1, 1, 1, 2}));
+  EXPECT_FALSE(t.s.set_paused("nope", true));
 }
 
 TEST_P(ExecutorTest, EveryEntityVisitedOncePerFrame) {
