@@ -44,7 +44,7 @@ using components::Terrain;
 using components::TerrainLighting;
 using terrain_shadow::TerrainHorizons;
 
-constexpr float kFrameSeconds = 1.0f / 30.0f;
+constexpr float kFrameSeconds = kDemoStepSeconds;
 
 std::filesystem::path data_dir(const TerrainDemoConfig& c) {
   return std::filesystem::path(c.data_dir.empty() ? std::string(PENUMBRA_SHARED_DATA) : c.data_dir);

@@ -45,6 +45,9 @@
 
 namespace penumbra::game {
 
+// The simulation's fixed step (demo_clock's FrameTime::dt): headless runs are reproducible.
+inline constexpr float kDemoStepSeconds = 1.0f / 30.0f;
+
 struct TerrainDemoConfig {
   std::string data_dir;                     // ../shared/data; empty: PENUMBRA_SHARED_DATA
   std::string environment = "sunrise.exr";  // in data_dir/hdri: a low sun, so shadows are long
