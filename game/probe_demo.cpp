@@ -304,7 +304,9 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
         positions.emplace_back(xy, terrain_height(*terrain, xy) + h);
       }
   const glm::vec2 centre = glm::vec2(terrain->origin) + 0.5f * extent;
-  for (const glm::vec3& p : config.extra_probes) {
+  const std::vector<glm::vec3> extra =
+      config.extra_probes ? config.extra_probes(*terrain) : std::vector<glm::vec3>{};
+  for (const glm::vec3& p : extra) {
     const glm::vec2 xy = centre + extent * glm::vec2(p);
     positions.emplace_back(xy, terrain_height(*terrain, xy) + p.z);
   }

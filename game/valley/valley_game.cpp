@@ -249,11 +249,10 @@ TerrainDemoConfig valley_world(TerrainDemoConfig demo, const ValleyConfig& confi
     demo.shape_ground = [canyon](data::HeightField& f, glm::vec3 origin, float scale) {
       carve_canyon(f, origin, scale, canyon);
     };
-    // The probes along its floor, about every probe_spacing on the DEM's 74.4 m cells (the
-    // spacing only sets their count; where they go follows the terrain populated).
-    const float width = 74.4f * static_cast<float>(demo.terrain_size - 1);
-    const std::vector<glm::vec3> extra = canyon_probes(width, canyon);
-    demo.probes.extra_probes.insert(demo.probes.extra_probes.end(), extra.begin(), extra.end());
+    // The probes along its floor, about every probe_spacing of the terrain as populated.
+    demo.probes.extra_probes = [canyon](const Terrain& t) {
+      return canyon_probes(t.heights->cell_size * static_cast<float>(t.heights->width - 1), canyon);
+    };
     // The arches occlude the canyon's probes and reflect their sandstone colour in the bake.
     demo.probes.bake_meshes = [canyon](const Terrain& t) {
       std::vector<BakeMesh> meshes;

@@ -56,9 +56,9 @@ struct ProbeDemoConfig {
   float hover = 260.0f;          // metres: the objects' centre above the highest ground under them
   float simplify_error = 0.02f;  // the meshes simplified as the boulders' (boulders.h)
   bool show = false;             // ProbeDebugView at start
-  // More probes, e.g. along a canyon's floor: (x, y) as fractions of the terrain's width from
-  // its centre, z the height above the ground there in metres.
-  std::vector<glm::vec3> extra_probes;
+  // More probes, e.g. along a canyon's floor, from the terrain as populated: (x, y) as fractions
+  // of the terrain's width from its centre, z the height above the ground there in metres.
+  std::function<std::vector<glm::vec3>(const components::Terrain&)> extra_probes;
   // Static meshes for the bake (occluders and reflectors), from the terrain as populated.
   std::function<std::vector<BakeMesh>(const components::Terrain&)> bake_meshes;
 };
