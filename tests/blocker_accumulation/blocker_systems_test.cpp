@@ -78,6 +78,20 @@ TEST(BlockerSystems, BlockerShadowsTheGroundUnderItAndFollowsItsTransform) {
   EXPECT_LT(s.at(8, 8).x, 0.7f * pi);
 }
 
+// EnvironmentLight::intensity (the valley game's dusk) scales the sky's light at every receiver,
+// shadowed or not.
+TEST(BlockerSystems, TheSkysIntensityScalesTheReceiversLight) {
+  Scene s;
+  s.executor.run(s.schedule, s.world);
+  const std::vector<glm::vec3> full = s.irradiance();
+  s.world.resource<components::EnvironmentLight>().intensity = 0.25f;
+  s.executor.run(s.schedule, s.world);
+  const std::vector<glm::vec3>& dimmed = s.irradiance();
+  ASSERT_EQ(dimmed.size(), full.size());
+  for (std::size_t i = 0; i < full.size(); ++i)
+    ASSERT_NEAR(dimmed[i].y, 0.25f * full[i].y, 1e-5f * (1 + full[i].y)) << "receiver " << i;
+}
+
 // A Material makes the outgoing radiance: albedo E / pi when Lambertian; with a Phong exponent,
 // the albedo times the shadowed lobe towards the camera, which moves with the camera.
 TEST(BlockerSystems, MaterialShadesDiffuseOrGlossyTowardsTheCamera) {

@@ -15,6 +15,7 @@
 
 #include "common/stability.h"
 #include "penumbra/components/debug_shapes.h"
+#include "penumbra/components/environment_light.h"
 #include "penumbra/components/lighting_result.h"
 #include "penumbra/components/mesh.h"
 #include "penumbra/components/probe_anchor.h"
@@ -188,6 +189,9 @@ TEST(ProbeDemo, ObjectIsBrighterOnALitSlopeThanInAShadowedValley) {
       lit / shadowed);
   EXPECT_GT(shadowed, 0.0);
   EXPECT_GT(lit, 1.5 * shadowed);  // measured 3.6 (129-sample crop, 8 x 8 x 3 probes)
+  // The sky's intensity (the valley game's dusk) scales the probe-lit object with it.
+  world.resource<components::EnvironmentLight>().intensity = 0.5f;
+  EXPECT_NEAR(lighting_at(bright), 0.5 * lit, 1e-4 * lit);
 }
 
 // A turning sky re-projects the probes' SH (a new cloud, a new walk generation) and the objects

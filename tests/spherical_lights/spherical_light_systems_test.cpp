@@ -80,6 +80,21 @@ TEST(SphericalLightSystems, ARedCubeBleedsRedOntoTheWallFacingIt) {
   EXPECT_LT((*s.wall_lighting().indirect)[2].x, 0.5f * e.x);
 }
 
+// EnvironmentLight::intensity (the valley game's dusk) scales what the cube reflects: the bounce
+// is linear in the sky. It arrives when the reflector's turn comes (reflect_period frames).
+TEST(SphericalLightSystems, TheSkysIntensityScalesTheBounce) {
+  Scene s;
+  s.executor.run(s.schedule, s.world);
+  const glm::vec3 full = (*s.wall_lighting().indirect)[2];
+  s.world.resource<components::EnvironmentLight>().intensity = 0.25f;
+  const int period = s.world.resource<const SphericalLightSettingsResource>().reflect_period;
+  for (int f = 0; f < period + 1; ++f) s.executor.run(s.schedule, s.world);
+  const glm::vec3 dimmed = (*s.wall_lighting().indirect)[2];
+  EXPECT_GT(full.x, 0.05f);
+  EXPECT_NEAR(dimmed.x, 0.25f * full.x, 1e-3f * full.x);
+  EXPECT_NEAR(dimmed.y, 0.25f * full.y, 1e-3f * full.x);
+}
+
 TEST(SphericalLightSystems, ReflectorsTakeTurnsAndFarReceiversSkipTheGather) {
   Scene s;
   auto far_point = std::make_shared<std::vector<glm::vec3>>(1, glm::vec3(1000, 0, 0));
