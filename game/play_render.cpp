@@ -15,6 +15,7 @@
 #include <GLFW/glfw3.h>
 
 #include "penumbra/components/probe_cloud_resource.h"
+#include "penumbra/game/fixed_step.h"
 #include "penumbra/game/probe_demo.h"
 #include "penumbra/game/sample_render.h"
 #include "penumbra/game/sample_world.h"
@@ -491,7 +492,7 @@ int run_window(const Options& o) {
   std::vector<FrameSample> samples;
   int f = 0;
   auto last = Clock::now();
-  double owed = game::kDemoStepSeconds;  // the game: simulated time the wall clock is ahead by
+  game::FixedStepClock clock(game::kDemoStepSeconds);  // the game runs in real time
   int step = 0;
   bool p_was_down = false, i_was_down = false, c_was_down = false, f1_was_down = false;
   stats.panel = !sim.valley;  // the game starts with its HUD alone (F1: the panel)
@@ -539,16 +540,10 @@ int run_window(const Options& o) {
     }
     if (f == sim.warmup) renderer.pass_table().clear();
     const auto t0 = Clock::now();
-    // The game runs in real time: as many fixed steps as the wall clock owes, at most 4 a frame
-    // (a slow machine slows the game rather than falling behind for good); the other scenes
-    // take one step a frame.
-    int steps = 1;
-    if (sim.valley) {
-      owed += std::chrono::duration<double>(t0 - last).count();
-      steps = static_cast<int>(owed / game::kDemoStepSeconds);
-      owed -= steps * static_cast<double>(game::kDemoStepSeconds);
-      if (steps > 4) steps = 4, owed = 0;
-    }
+    // The game: as many fixed steps as the wall clock owes (fixed_step.h); the other scenes
+    // one step a frame.
+    const int steps =
+        sim.valley ? clock.steps(std::chrono::duration<double>(t0 - last).count()) : 1;
     for (int k = 0; k < steps; ++k) sim.step(step++, o.frames, window.glfw());
     const jobs::FrameStats& frame = sim.executor.last_frame();
     const double t_sim = ms_since(t0);
