@@ -6,6 +6,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "../terrain_height.h"
 #include "penumbra/data/height_field.h"
 #include "random_bits.h"
 
@@ -31,18 +32,8 @@ glm::vec2 field_max(const components::Terrain& t) {
 }  // namespace
 
 float ground_height(const components::Terrain& t, glm::vec2 xy) {
-  if (!t.heights || t.heights->width < 1 || t.heights->height < 1) return t.origin.z;
-  const data::HeightField& f = *t.heights;
-  glm::vec2 q = (xy - glm::vec2(t.origin)) / f.cell_size;
-  if (!finite(q)) q = glm::vec2(0.0f);
-  q = glm::clamp(q, glm::vec2(0.0f), glm::vec2(f.width - 1, f.height - 1));
-  const int x0 = std::min(static_cast<int>(q.x), std::max(f.width - 2, 0));
-  const int y0 = std::min(static_cast<int>(q.y), std::max(f.height - 2, 0));
-  const int x1 = std::min(x0 + 1, f.width - 1), y1 = std::min(y0 + 1, f.height - 1);
-  const float fx = q.x - x0, fy = q.y - y0;
-  const float h = (f.at(x0, y0) * (1 - fx) + f.at(x1, y0) * fx) * (1 - fy) +
-                  (f.at(x0, y1) * (1 - fx) + f.at(x1, y1) * fx) * fy;
-  return t.origin.z + t.height_scale * h;
+  if (!t.heights || t.heights->width < 2 || t.heights->height < 2) return t.origin.z;
+  return terrain_height(t, finite(xy) ? xy : glm::vec2(t.origin));  // the demo's (terrain_height.h)
 }
 
 glm::vec2 ground_slope(const components::Terrain& t, glm::vec2 xy) {
