@@ -39,6 +39,32 @@ inline float fast_atan(float x) {
   return std::copysign(r, x);
 }
 
+#ifdef __AVX2__
+// fast_atan's polynomial on 8 lanes: z in [0, 1] -> atan(z).
+inline __m256 fast_atan_unit8(__m256 z) {
+  const __m256 z2 = _mm256_mul_ps(z, z);
+  __m256 p = _mm256_set1_ps(-4.051978102e-03f);
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(2.185325950e-02f));
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(-5.589779900e-02f));
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(9.641089470e-02f));
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(-1.390817735e-01f));
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(1.994647099e-01f));
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(-3.332985206e-01f));
+  p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(9.999993333e-01f));
+  return _mm256_mul_ps(z, p);
+}
+
+// atan(num / den) for den > 0 on 8 lanes with one division (min / max of |num| and den).
+inline __m256 fast_atan_ratio8(__m256 num, __m256 den) {
+  const __m256 sign = _mm256_set1_ps(-0.0f);
+  const __m256 a = _mm256_andnot_ps(sign, num);
+  const __m256 inv = _mm256_cmp_ps(a, den, _CMP_GT_OQ);
+  const __m256 r = fast_atan_unit8(_mm256_div_ps(_mm256_min_ps(a, den), _mm256_max_ps(a, den)));
+  const __m256 t = _mm256_blendv_ps(r, _mm256_sub_ps(_mm256_set1_ps(1.57079632679f), r), inv);
+  return _mm256_or_ps(t, _mm256_and_ps(sign, num));
+}
+#endif
+
 // In place over an array, 8 lanes at a time where AVX2 is available (the same operations as
 // fast_atan, so the results are identical). -inf gives -pi/2.
 inline void fast_atan_array(float* v, std::size_t n) {
@@ -50,19 +76,9 @@ inline void fast_atan_array(float* v, std::size_t n) {
     const __m256 x = _mm256_loadu_ps(v + i);
     const __m256 a = _mm256_andnot_ps(sign, x);
     const __m256 inv = _mm256_cmp_ps(a, one, _CMP_GT_OQ);
-    const __m256 z = _mm256_min_ps(a, _mm256_div_ps(one, a));
-    const __m256 z2 = _mm256_mul_ps(z, z);
-    __m256 p = _mm256_set1_ps(-4.051978102e-03f);
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(2.185325950e-02f));
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(-5.589779900e-02f));
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(9.641089470e-02f));
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(-1.390817735e-01f));
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(1.994647099e-01f));
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(-3.332985206e-01f));
-    p = _mm256_fmadd_ps(p, z2, _mm256_set1_ps(9.999993333e-01f));
-    __m256 r = _mm256_mul_ps(z, p);
-    r = _mm256_blendv_ps(r, _mm256_sub_ps(half_pi, r), inv);
-    _mm256_storeu_ps(v + i, _mm256_or_ps(r, _mm256_and_ps(sign, x)));
+    const __m256 r = fast_atan_unit8(_mm256_min_ps(a, _mm256_div_ps(one, a)));
+    _mm256_storeu_ps(v + i, _mm256_or_ps(_mm256_blendv_ps(r, _mm256_sub_ps(half_pi, r), inv),
+                                         _mm256_and_ps(sign, x)));
   }
 #endif
   for (; i < n; ++i) v[i] = fast_atan(v[i]);

@@ -11,6 +11,7 @@
 
 #include "fast_math.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "radial_sweep_lanes.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -113,72 +114,56 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
     if (j_lo > j_hi) continue;
     side.j_lo = static_cast<int>(j_lo);
     side.lines = static_cast<int>(j_hi - j_lo) + 1;
-    side.angle.resize(static_cast<std::size_t>(side.lines) * side.columns);
+    const int groups = (side.lines + detail::kRadialLanes - 1) / detail::kRadialLanes;
+    side.angle.resize(static_cast<std::size_t>(groups) * detail::kRadialLanes * side.columns);
     side.line_end.clear();
     if (!regions.empty()) limit_lines(side, regions);
-    const std::size_t stride_u = side.x_major ? 1 : static_cast<std::size_t>(f.width);
-    const std::size_t stride_v = side.x_major ? static_cast<std::size_t>(f.width) : 1;
-    const float* heights = f.heights.data();
+    detail::RadialGroup base;
+    base.heights = f.heights.data();
+    base.stride_u = side.x_major ? 1 : f.width;
+    base.stride_v = side.x_major ? f.width : 1;
+    base.size_v = size_v;
+    base.u_first = side.u_first;
+    base.sign = side.sign;
+    base.v0 = v0;
+    base.r_near = r_near;
+    base.height_scale = height_scale;
     const double v_max = size_v - 1;
     tbb::parallel_for(
-        tbb::blocked_range<int>(0, side.lines, 8), [&](const tbb::blocked_range<int>& range) {
-          std::vector<float> hull_r(static_cast<std::size_t>(side.columns)),
-              hull_h(static_cast<std::size_t>(side.columns));
-          for (int line = range.begin(); line < range.end(); ++line) {
-            const double m = (j_lo + line) / lines_per_slope;
-            const float inv_metres = static_cast<float>(1 / (std::sqrt(1 + m * m) * f.cell_size));
-            float* out = side.angle.data() + static_cast<std::size_t>(line) * side.columns;
-            const int columns = side.line_end.empty()
-                                    ? side.columns
-                                    : side.line_end[static_cast<std::size_t>(line)];
-            if (columns == 0) continue;
-            // Columns whose point v = v0 + (r_near + k) m lies in [0, size_v - 1] (within 1e-5).
-            double k_min = 0, k_max = columns - 1;
-            if (m != 0) {
-              const double k_a = (-1e-5 - v0) / m - r_near, k_b = (v_max + 1e-5 - v0) / m - r_near;
-              k_min = std::max(k_min, std::ceil(std::min(k_a, k_b)));
-              k_max = std::min(k_max, std::floor(std::max(k_a, k_b)));
-            } else if (!(v0 > -1e-5 && v0 < v_max + 1e-5)) {
-              k_max = -1;
-            }
-            const int first = static_cast<int>(std::min(k_min, static_cast<double>(columns)));
-            const int end = std::max(first, static_cast<int>(k_max) + 1);
-            std::fill(out, out + first, std::numeric_limits<float>::quiet_NaN());
-            std::fill(out + end, out + columns, std::numeric_limits<float>::quiet_NaN());
-            float* hr = hull_r.data();
-            float* hh = hull_h.data();
-            int n = 0;
-            for (int k = first; k < end; ++k) {
-              const double r = r_near + k;
-              const double v = v0 + r * m;
-              int vi = static_cast<int>(std::floor(v));
-              float fv = static_cast<float>(v - vi);
-              if (fv > 1 - 1e-5f) {
-                ++vi;
-                fv = 0;
+        tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
+          thread_local detail::RadialScratch scratch;
+          for (int group = range.begin(); group < range.end(); ++group) {
+            detail::RadialGroup g = base;
+            for (int l = 0; l < detail::kRadialLanes; ++l) {
+              const int line = group * detail::kRadialLanes + l;
+              if (line >= side.lines) continue;  // first == end == 0
+              const double m = (j_lo + line) / lines_per_slope;
+              g.m[l] = m;
+              g.inv_metres[l] = static_cast<float>(1 / (std::sqrt(1 + m * m) * f.cell_size));
+              const int columns = side.line_end.empty()
+                                      ? side.columns
+                                      : side.line_end[static_cast<std::size_t>(line)];
+              // Columns whose point v = v0 + (r_near + k) m lies in [0, size_v - 1] (within 1e-5).
+              double k_min = 0, k_max = columns - 1;
+              if (m != 0) {
+                const double k_a = (-1e-5 - v0) / m - r_near,
+                             k_b = (v_max + 1e-5 - v0) / m - r_near;
+                k_min = std::max(k_min, std::ceil(std::min(k_a, k_b)));
+                k_max = std::min(k_max, std::floor(std::max(k_a, k_b)));
+              } else if (!(v0 > -1e-5 && v0 < v_max + 1e-5)) {
+                k_max = -1;
               }
-              if (vi < 0 || vi >= size_v - 1) {  // on the border line (within 1e-5)
-                vi = std::clamp(vi, 0, size_v - 1);
-                fv = 0;
-              }
-              const float* sample =
-                  heights + static_cast<std::size_t>(side.u_first + side.sign * k) * stride_u +
-                  static_cast<std::size_t>(vi) * stride_v;
-              const float h =
-                  height_scale * (sample[0] + fv * (sample[fv > 0 ? stride_v : 0] - sample[0]));
-              const float rf = static_cast<float>(r);
-              // The tangent from (r, h) to the upper hull of the samples between it and F.
-              while (n >= 2 &&
-                     (hh[n - 1] - h) * (rf - hr[n - 2]) <= (hh[n - 2] - h) * (rf - hr[n - 1]))
-                --n;
-              out[k] = n > 0 ? (hh[n - 1] - h) / (rf - hr[n - 1]) * inv_metres
-                             : -std::numeric_limits<float>::infinity();
-              hr[n] = rf;
-              hh[n] = h;
-              ++n;
+              g.first[l] = static_cast<int>(std::min(k_min, static_cast<double>(columns)));
+              g.end[l] = std::max(g.first[l], static_cast<int>(k_max) + 1);
+              g.width = std::max(g.width, columns);
             }
-            if (end > first)  // slopes to angles; -inf (nothing in between) gives -pi/2
-              detail::fast_atan_array(out + first, static_cast<std::size_t>(end - first));
+            if (g.width == 0) continue;  // no line of the group serves a region
+            float* block = side.angle.data() +
+                           static_cast<std::size_t>(group) * detail::kRadialLanes * side.columns;
+            detail::sweep_radial_group_lanes(g, scratch, block);
+            // Slopes to angles; -inf (nothing in between) gives -pi/2, NaN stays NaN.
+            detail::fast_atan_array(block,
+                                    static_cast<std::size_t>(g.width) * detail::kRadialLanes);
           }
         });
   }
@@ -197,8 +182,7 @@ float RadialHorizonSweep::horizon(int x, int y) const {
   const float t = side.lines > 1 ? std::clamp(jf - static_cast<float>(l0), 0.0f, 1.0f) : 0.0f;
   const int k = side.sign * (u - side.u_first);
   if (k < 0 || k >= side.columns) return -kHalfPi;
-  const float* a = side.angle.data() + static_cast<std::size_t>(l0) * side.columns + k;
-  const float lo = a[0], hi = side.lines > 1 ? a[side.columns] : lo;
+  const float lo = side.at(l0, k), hi = side.lines > 1 ? side.at(l0 + 1, k) : lo;
   if (std::isnan(lo) || std::isnan(hi)) {
     // A line beside the texel is outside the field here. With F outside, the texel's own ray
     // may leave the field where its neighbour line does not (grazing the border): exact ray.

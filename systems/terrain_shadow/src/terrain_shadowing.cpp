@@ -416,37 +416,100 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
   if (method == CapHorizons::kRadialSweep)
     radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y), reach, regions);
   const bool sweep = method == CapHorizons::kRadialSweep;
-  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) {
-    const int y = spans[si].y;
-    for (int x = spans[si].x0; x < spans[si].x1; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
-      const glm::vec3 d = centre - position(x, y);
-      LightCap cap;
-      if (glm::dot(d, normals_[i]) <= -radius || !make_light_cap(d, radius, cap)) continue;
-      // Horizons towards the cap only, limited to the light's plane distance ([Meier13] eq. 4.22).
-      std::array<float, kMaxCapHorizons> horizon;
-      bool one = sweep;
-      if (sweep) {
-        horizon[0] = radial_.horizon(x, y);
-        if (cap.rho >= config_.cap_wide) {
-          // A wide cap the horizon passes near: the horizon may vary across it.
-          const float e = std::atan2(cap.sin_e, cap.cos_e), half = std::asin(cap.rho);
-          one = !(horizon[0] > e - 2 * half && horizon[0] < e + 2 * half);
+  // One receiver: the cap, its horizons (one from the sweep, or cap_horizons where the cap is
+  // wide or the method is not the sweep) and cap_transfer.
+  auto shade = [&](int x, int y, const float* swept) {
+    const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
+    const glm::vec3 d = centre - position(x, y);
+    LightCap cap;
+    if (glm::dot(d, normals_[i]) <= -radius || !make_light_cap(d, radius, cap)) return;
+    // Horizons towards the cap only, limited to the light's plane distance ([Meier13] eq. 4.22).
+    std::array<float, kMaxCapHorizons> horizon;
+    bool one = sweep;
+    if (sweep) {
+      horizon[0] = swept ? *swept : radial_.horizon(x, y);
+      if (cap.rho >= config_.cap_wide) {
+        // A wide cap the horizon passes near: the horizon may vary across it.
+        const float e = std::atan2(cap.sin_e, cap.cos_e), half = std::asin(cap.rho);
+        one = !(horizon[0] > e - 2 * half && horizon[0] < e + 2 * half);
+      }
+    }
+    const int count = one ? 1 : config_.cap_horizons;
+    for (int j = 0; j < count && !one; ++j) {
+      const glm::vec2 dir = cap_horizon_direction(cap, j, count);
+      horizon[j] = method == CapHorizons::kMarch
+                       ? marcher->horizon(x, y, dir, cap.plane_distance / f.cell_size)
+                       : ray_horizon(f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
+                                     std::atan2(dir.y, dir.x), cap.plane_distance, false);
+    }
+    irradiance[i] +=
+        radiance * cap_transfer(cap, normals_[i], horizon.data(), count, config_.cap_strips);
+  };
+  // One compiled copy of a span's work: TBB inlines its body into several paths, and each copy
+  // may fuse multiply-adds differently (results then depend on which thread ran which span).
+  auto shade_span = [&](std::size_t si) __attribute__((noinline)) {
+    const Span& span = spans[si];
+    const int y = span.y;
+    if (!sweep) {
+      for (int x = span.x0; x < span.x1; ++x) shade(x, y, nullptr);
+      return;
+    }
+    // With the sweep's one horizon, eight receivers at a time (cap_transfer8). Caps the tangent
+    // plane cuts are gathered and passed again eight at a time; wide caps take shade().
+    CapLanes cut;
+    int cut_x[8];
+    int cut_count = 0;
+    auto flush_cut = [&] {
+      for (int l = cut_count; l < 8; ++l) {  // padding lanes repeat the first
+        cut.dx[l] = cut.dx[0], cut.dy[l] = cut.dy[0], cut.dz[l] = cut.dz[0];
+        cut.nx[l] = cut.nx[0], cut.ny[l] = cut.ny[0], cut.nz[l] = cut.nz[0];
+        cut.horizon[l] = cut.horizon[0];
+      }
+      float e[8];
+      const unsigned wide_caps =
+          cap_transfer8(cut, radius, config_.cap_wide, config_.cap_strips, true, e);
+      for (int l = 0; l < cut_count; ++l) {
+        if (wide_caps >> l & 1u)
+          shade(cut_x[l], y, &cut.horizon[l]);
+        else if (e[l] > 0)
+          irradiance[static_cast<std::size_t>(y) * f.width + cut_x[l]] += radiance * e[l];
+      }
+      cut_count = 0;
+    };
+    for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
+      const int n = std::min(8, span.x1 - x0);
+      CapLanes lanes;
+      for (int l = 0; l < 8; ++l) {
+        const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
+        const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
+        const glm::vec3 d = centre - position(x, y);
+        lanes.dx[l] = d.x;
+        lanes.dy[l] = d.y;
+        lanes.dz[l] = d.z;
+        lanes.nx[l] = normals_[i].x;
+        lanes.ny[l] = normals_[i].y;
+        lanes.nz[l] = normals_[i].z;
+        lanes.horizon[l] = l < n ? radial_.horizon(x, y) : 0.0f;
+      }
+      float e[8];
+      const unsigned other =
+          cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, false, e);
+      for (int l = 0; l < n; ++l) {
+        if (other >> l & 1u) {
+          cut.dx[cut_count] = lanes.dx[l], cut.dy[cut_count] = lanes.dy[l];
+          cut.dz[cut_count] = lanes.dz[l], cut.nx[cut_count] = lanes.nx[l];
+          cut.ny[cut_count] = lanes.ny[l], cut.nz[cut_count] = lanes.nz[l];
+          cut.horizon[cut_count] = lanes.horizon[l];
+          cut_x[cut_count] = x0 + l;
+          if (++cut_count == 8) flush_cut();
+        } else if (e[l] > 0) {
+          irradiance[static_cast<std::size_t>(y) * f.width + x0 + l] += radiance * e[l];
         }
       }
-      const int count = one ? 1 : config_.cap_horizons;
-      for (int j = 0; j < count && !one; ++j) {
-        const glm::vec2 dir = cap_horizon_direction(cap, j, count);
-        horizon[j] =
-            method == CapHorizons::kMarch
-                ? marcher->horizon(x, y, dir, cap.plane_distance / f.cell_size)
-                : ray_horizon(f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
-                              std::atan2(dir.y, dir.x), cap.plane_distance, false);
-      }
-      const float e = cap_transfer(cap, normals_[i], horizon.data(), count, config_.cap_strips);
-      irradiance[i] += radiance * e;
     }
-  });
+    if (cut_count > 0) flush_cut();
+  };
+  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) { shade_span(si); });
 }
 
 float disc_share_above(float above, float angular_radius) {

@@ -57,8 +57,13 @@ class RadialHorizonSweep {
     int u_first = 0, columns = 0;  // first column (major coordinate) and count
     int j_lo = 0, lines = 0;       // line j_lo + l is stored at row l
     float lines_per_slope = 1;     // J
-    std::vector<float> angle;      // lines x columns; NaN outside the field
-    std::vector<int> line_end;     // with regions: columns swept per line (empty: all)
+    // Groups of 8 lines (radial_sweep_lanes.h), each columns x 8 lane-interleaved; NaN outside
+    // the field.
+    std::vector<float> angle;
+    std::vector<int> line_end;  // with regions: columns swept per line (empty: all)
+    float at(int line, int k) const {
+      return angle[(static_cast<std::size_t>(line >> 3) * columns + k) * 8 + (line & 7)];
+    }
   };
   // Side::line_end from the regions (run()).
   void limit_lines(Side& side, std::span<const TexelRect> regions) const;

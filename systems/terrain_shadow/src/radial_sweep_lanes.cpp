@@ -1,0 +1,193 @@
+// One group of RadialHorizonSweep's lines, scalar and on AVX2 lanes (radial_sweep_lanes.h).
+#include "radial_sweep_lanes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
+namespace penumbra::terrain_shadow::detail {
+namespace {
+
+constexpr int L = kRadialLanes;
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kMinusInf = -std::numeric_limits<float>::infinity();
+
+// The lanes' swept columns: [lo, hi) covers every lane's [first, end) (lo = hi: none).
+void swept_columns(const RadialGroup& g, int& lo, int& hi) {
+  lo = g.width;
+  hi = 0;
+  for (int l = 0; l < L; ++l)
+    if (g.first[l] < g.end[l]) {
+      lo = std::min(lo, g.first[l]);
+      hi = std::max(hi, g.end[l]);
+    }
+  if (lo >= hi) lo = hi = 0;
+}
+
+void fill_nan(float* block, int k0, int k1) {
+  if (k1 > k0) std::fill(block + static_cast<std::ptrdiff_t>(k0) * L, block + k1 * L, kNaN);
+}
+
+}  // namespace
+
+void sweep_radial_group_scalar(const RadialGroup& g, RadialScratch& sc, float* block) {
+  int lo, hi;
+  swept_columns(g, lo, hi);
+  sc.hull_r.resize(static_cast<std::size_t>(std::max(hi - lo, 1)));
+  sc.hull_h.resize(sc.hull_r.size());
+  fill_nan(block, 0, g.width);
+  for (int l = 0; l < L; ++l) {
+    float* hr = sc.hull_r.data();
+    float* hh = sc.hull_h.data();
+    int n = 0;
+    for (int k = g.first[l]; k < g.end[l]; ++k) {
+      const double r = g.r_near + k;
+      const double v = g.v0 + r * g.m[l];
+      int vi = static_cast<int>(std::floor(v));
+      float fv = static_cast<float>(v - vi);
+      if (fv > 1 - 1e-5f) {
+        ++vi;
+        fv = 0;
+      }
+      if (vi < 0 || vi >= g.size_v - 1) {  // on the border line (within 1e-5)
+        vi = std::clamp(vi, 0, g.size_v - 1);
+        fv = 0;
+      }
+      const float* sample = g.heights +
+                            static_cast<std::ptrdiff_t>(g.u_first + g.sign * k) * g.stride_u +
+                            static_cast<std::ptrdiff_t>(vi) * g.stride_v;
+      const float h =
+          g.height_scale * (sample[0] + fv * (sample[fv > 0 ? g.stride_v : 0] - sample[0]));
+      const float rf = static_cast<float>(r);
+      // The tangent from (r, h) to the upper hull of the samples between it and F.
+      while (n >= 2 && (hh[n - 1] - h) * (rf - hr[n - 2]) <= (hh[n - 2] - h) * (rf - hr[n - 1]))
+        --n;
+      block[k * L + l] = n > 0 ? (hh[n - 1] - h) / (rf - hr[n - 1]) * g.inv_metres[l] : kMinusInf;
+      hr[n] = rf;
+      hh[n] = h;
+      ++n;
+    }
+  }
+}
+
+#ifdef __AVX2__
+
+void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* block) {
+  int lo, hi;
+  swept_columns(g, lo, hi);
+  fill_nan(block, 0, lo);
+  fill_nan(block, hi, g.width);
+  if (lo >= hi) return;
+  // Hull slot d of lane l at [d * L + l]; a lane outside its columns writes above its stack.
+  const std::size_t slots = static_cast<std::size_t>(hi - lo + 1) * L;
+  if (sc.hull_r.size() < slots) sc.hull_r.resize(slots), sc.hull_h.resize(slots);
+  float* hull_r = sc.hull_r.data();
+  float* hull_h = sc.hull_h.data();
+
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256d v0 = _mm256_set1_pd(g.v0), m_lo = _mm256_loadu_pd(g.m.data()),
+                m_hi = _mm256_loadu_pd(g.m.data() + 4);
+  const __m256i first = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(g.first.data()));
+  const __m256i end = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(g.end.data()));
+  const __m256 inv_metres = _mm256_loadu_ps(g.inv_metres.data());
+  const __m256 scale = _mm256_set1_ps(g.height_scale), almost_one = _mm256_set1_ps(1 - 1e-5f);
+  const __m256 nan = _mm256_set1_ps(kNaN), minus_inf = _mm256_set1_ps(kMinusInf);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256i izero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
+  const __m256i v_last = _mm256_set1_epi32(g.size_v - 1), stride_v = _mm256_set1_epi32(g.stride_v);
+
+  // Hull size per lane and its top three points in registers (a = top - 1, b = top - 2,
+  // c = top - 3), as sweep_lanes.cpp: a pop needs a and b only.
+  __m256i top = izero;
+  __m256 ah = zero, ar = zero, bh = zero, br = zero, ch = zero, cr = zero;
+  for (int k = lo; k < hi; ++k) {
+    const double r = g.r_near + k;
+    const __m256d rd = _mm256_set1_pd(r);
+    const __m256 rf = _mm256_set1_ps(static_cast<float>(r));
+    const __m256d va = _mm256_add_pd(v0, _mm256_mul_pd(rd, m_lo));
+    const __m256d vb = _mm256_add_pd(v0, _mm256_mul_pd(rd, m_hi));
+    const __m256d fa = _mm256_floor_pd(va), fb = _mm256_floor_pd(vb);
+    __m256i vi = _mm256_setr_m128i(_mm256_cvttpd_epi32(fa), _mm256_cvttpd_epi32(fb));
+    __m256 fv = _mm256_setr_m128(_mm256_cvtpd_ps(_mm256_sub_pd(va, fa)),
+                                 _mm256_cvtpd_ps(_mm256_sub_pd(vb, fb)));
+    const __m256 bump = _mm256_cmp_ps(fv, almost_one, _CMP_GT_OQ);
+    vi = _mm256_sub_epi32(vi, _mm256_castps_si256(bump));  // +1 where bumped
+    fv = _mm256_andnot_ps(bump, fv);
+    const __m256i border =
+        _mm256_or_si256(_mm256_cmpgt_epi32(izero, vi),
+                        _mm256_cmpgt_epi32(vi, _mm256_sub_epi32(v_last, one)));  // vi >= last
+    vi = _mm256_min_epi32(_mm256_max_epi32(vi, izero), v_last);
+    fv = _mm256_andnot_ps(_mm256_castsi256_ps(border), fv);
+    const __m256i kv = _mm256_set1_epi32(k);
+    const __m256 active = _mm256_castsi256_ps(_mm256_andnot_si256(
+        _mm256_cmpgt_epi32(first, kv), _mm256_cmpgt_epi32(end, kv)));  // first <= k < end
+
+    const __m256i i0 = _mm256_add_epi32(_mm256_set1_epi32((g.u_first + g.sign * k) * g.stride_u),
+                                        _mm256_mullo_epi32(vi, stride_v));
+    const __m256i i1 = _mm256_add_epi32(
+        i0, _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(fv, zero, _CMP_GT_OQ)), stride_v));
+    const __m256 s0 = _mm256_i32gather_ps(g.heights, i0, 4);
+    const __m256 s1 = _mm256_i32gather_ps(g.heights, i1, 4);
+    const __m256 h =
+        _mm256_mul_ps(scale, _mm256_add_ps(s0, _mm256_mul_ps(fv, _mm256_sub_ps(s1, s0))));
+
+    // Pop while the top is not above the line from the second point (the scalar test).
+    for (;;) {
+      const __m256 can = _mm256_and_ps(active, _mm256_castsi256_ps(_mm256_cmpgt_epi32(top, one)));
+      const __m256 lhs = _mm256_mul_ps(_mm256_sub_ps(ah, h), _mm256_sub_ps(rf, br));
+      const __m256 rhs = _mm256_mul_ps(_mm256_sub_ps(bh, h), _mm256_sub_ps(rf, ar));
+      const __m256 pop = _mm256_and_ps(can, _mm256_cmp_ps(lhs, rhs, _CMP_LE_OQ));
+      if (_mm256_testz_ps(pop, pop)) break;
+      top = _mm256_add_epi32(top, _mm256_castps_si256(pop));  // -1 where popping
+      ah = _mm256_blendv_ps(ah, bh, pop);
+      ar = _mm256_blendv_ps(ar, br, pop);
+      bh = _mm256_blendv_ps(bh, ch, pop);
+      br = _mm256_blendv_ps(br, cr, pop);
+      const __m256i i3 = _mm256_add_epi32(
+          _mm256_slli_epi32(_mm256_max_epi32(_mm256_sub_epi32(top, _mm256_set1_epi32(3)), izero),
+                            3),
+          lane);
+      ch = _mm256_mask_i32gather_ps(ch, hull_h, i3, pop, 4);
+      cr = _mm256_mask_i32gather_ps(cr, hull_r, i3, pop, 4);
+    }
+    const __m256 has = _mm256_castsi256_ps(_mm256_cmpgt_epi32(top, izero));
+    const __m256 slope =
+        _mm256_mul_ps(_mm256_div_ps(_mm256_sub_ps(ah, h), _mm256_sub_ps(rf, ar)), inv_metres);
+    _mm256_storeu_ps(block + static_cast<std::ptrdiff_t>(k) * L,
+                     _mm256_blendv_ps(nan, _mm256_blendv_ps(minus_inf, slope, has), active));
+
+    // Push on the active lanes (AVX2 has no scatter).
+    alignas(32) float hv[L];
+    alignas(32) int slot[L];
+    _mm256_store_ps(hv, h);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(slot),
+                       _mm256_add_epi32(_mm256_slli_epi32(top, 3), lane));
+    const float r_now = static_cast<float>(r);
+    for (int l = 0; l < L; ++l) {
+      hull_h[slot[l]] = hv[l];
+      hull_r[slot[l]] = r_now;
+    }
+    top = _mm256_sub_epi32(top, _mm256_castps_si256(active));  // +1 where active
+    ch = _mm256_blendv_ps(ch, bh, active);
+    cr = _mm256_blendv_ps(cr, br, active);
+    bh = _mm256_blendv_ps(bh, ah, active);
+    br = _mm256_blendv_ps(br, ar, active);
+    ah = _mm256_blendv_ps(ah, h, active);
+    ar = _mm256_blendv_ps(ar, rf, active);
+  }
+}
+
+#else
+
+void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* block) {
+  sweep_radial_group_scalar(g, sc, block);
+}
+
+#endif
+
+}  // namespace penumbra::terrain_shadow::detail
