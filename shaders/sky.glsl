@@ -10,7 +10,7 @@
 #ifdef PENUMBRA_VERTEX
 // The view ray, from the eye to the near plane: affine across the screen, so it is computed per
 // vertex and interpolated (normalised per pixel).
-layout(location = 0) out vec3 v_ray;
+layout(location = 0) noperspective out vec3 v_ray;
 void main() {
   vec2 p = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);  // (0,0), (2,0), (0,2)
   vec2 ndc = p * 2.0 - 1.0;
@@ -22,7 +22,7 @@ void main() {
 
 #ifdef PENUMBRA_FRAGMENT
 layout(set = 0, binding = 1) uniform sampler2D environment;
-layout(location = 0) in vec3 v_ray;
+layout(location = 0) noperspective in vec3 v_ray;
 layout(location = 0) out vec4 out_color;
 const float kPi = 3.14159265358979;
 

@@ -316,11 +316,23 @@ __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, 
     hi = _mm256_blendv_ps(_mm256_max_ps(hi, lo), lo, hidden);
     const __m256 c_lo = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(lo, lo, q), zero));
     const __m256 c_hi = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(hi, hi, q), zero));
-    const __m256 as = _mm256_sub_ps(detail::fast_atan_ratio8(hi, _mm256_max_ps(c_hi, tiny)),
-                                    detail::fast_atan_ratio8(lo, _mm256_max_ps(c_lo, tiny)));
+    // asin(hi / sq) - asin(lo / sq) as one angle: atan2(hi c_lo - lo c_hi, c_hi c_lo + hi lo)
+    // in [0, pi], and c0(lo) - c0(hi) in product form (tiny caps keep their precision), both
+    // from one division.
+    const __m256 y = _mm256_max_ps(_mm256_fmsub_ps(hi, c_lo, _mm256_mul_ps(lo, c_hi)), zero);
+    const __m256 x = _mm256_fmadd_ps(c_hi, c_lo, _mm256_mul_ps(hi, lo));
+    const __m256 ax = _mm256_andnot_ps(sign, x);
+    const __m256 big = _mm256_max_ps(_mm256_max_ps(y, ax), tiny);
+    const __m256 sum_c = _mm256_max_ps(_mm256_add_ps(c_lo, c_hi), tiny);
+    const __m256 inv = _mm256_div_ps(one, _mm256_mul_ps(big, sum_c));
+    __m256 as =
+        detail::fast_atan_unit8(_mm256_mul_ps(_mm256_mul_ps(_mm256_min_ps(y, ax), sum_c), inv));
+    as = _mm256_blendv_ps(as, _mm256_sub_ps(_mm256_set1_ps(kHalfPi), as),
+                          _mm256_cmp_ps(y, ax, _CMP_GT_OQ));
+    as = _mm256_blendv_ps(as, _mm256_sub_ps(_mm256_set1_ps(kPi), as), x);  // x < 0: obtuse
     const __m256 len = _mm256_sub_ps(hi, lo);
-    const __m256 dc = _mm256_div_ps(_mm256_mul_ps(len, _mm256_add_ps(hi, lo)),
-                                    _mm256_max_ps(_mm256_add_ps(c_lo, c_hi), tiny));
+    const __m256 dc =
+        _mm256_mul_ps(_mm256_mul_ps(len, _mm256_add_ps(hi, lo)), _mm256_mul_ps(big, inv));
     const __m256 chord =
         _mm256_fmadd_ps(nc, len, _mm256_fmadd_ps(_mm256_mul_ps(ns, s), as, _mm256_mul_ps(nu, dc)));
     acc = _mm256_fmadd_ps(sn, chord, acc);

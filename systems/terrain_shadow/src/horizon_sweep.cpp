@@ -315,6 +315,16 @@ float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 
   return to_angle(best, any, clamp_at_zero);
 }
 
+float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
+                  float start_height, glm::vec2 direction, float max_distance, bool clamp_at_zero) {
+  const detail::AzimuthFrame frame(field, direction.x, direction.y);
+  const double us = frame.x_major ? start.x : start.y, bs = frame.x_major ? start.y : start.x;
+  float best = 0;
+  const bool any = line_slope(field, height_scale, frame, bs - frame.slope * us, us, start_height,
+                              max_distance, best);
+  return to_angle(best, any, clamp_at_zero);
+}
+
 float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x, int y,
                          int k) {
   float limit = std::numeric_limits<float>::infinity();

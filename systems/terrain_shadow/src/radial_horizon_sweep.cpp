@@ -5,6 +5,10 @@
 #include <limits>
 #include <numbers>
 
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
@@ -177,7 +181,8 @@ float RadialHorizonSweep::horizon(int x, int y) const {
   if (side.lines == 0) return -kHalfPi;
   const int u = side.x_major ? x : y;
   const float ru = std::fabs(side.x_major ? rx : ry), rv = side.x_major ? ry : rx;
-  const float jf = rv / ru * side.lines_per_slope - static_cast<float>(side.j_lo);
+  // Explicit multiply-adds here and in horizons8, so that both give the same floats.
+  const float jf = std::fma(rv / ru, side.lines_per_slope, -static_cast<float>(side.j_lo));
   const int l0 = std::clamp(static_cast<int>(std::floor(jf)), 0, std::max(side.lines - 2, 0));
   const float t = side.lines > 1 ? std::clamp(jf - static_cast<float>(l0), 0.0f, 1.0f) : 0.0f;
   const int k = side.sign * (u - side.u_first);
@@ -194,7 +199,72 @@ float RadialHorizonSweep::horizon(int x, int y) const {
     }
     return std::isnan(lo) ? (std::isnan(hi) ? -kHalfPi : hi) : lo;
   }
-  return lo + t * (hi - lo);
+  return std::fma(t, hi - lo, lo);
+}
+
+void RadialHorizonSweep::horizons8(int x0, int y, float* out) const {
+#ifdef __AVX2__
+  // The vector path needs all eight texels on one side of F, between two lines inside the field.
+  const float ry = static_cast<float>(y) - foot_.y;
+  const float rx0 = static_cast<float>(x0) - foot_.x, rx7 = static_cast<float>(x0 + 7) - foot_.x;
+  int index = -1;
+  if (rx0 > 0 && rx0 >= std::fabs(ry))
+    index = 0;
+  else if (rx7 < 0 && -rx7 >= std::fabs(ry))
+    index = 1;
+  else if (std::fabs(rx0) < std::fabs(ry) && std::fabs(rx7) < std::fabs(ry))
+    index = ry > 0 ? 2 : 3;
+  if (index >= 0 && sides_[index].lines >= 2) {
+    const Side& side = sides_[index];
+    const __m256 rx =
+        _mm256_sub_ps(_mm256_cvtepi32_ps(_mm256_add_epi32(
+                          _mm256_set1_epi32(x0), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7))),
+                      _mm256_set1_ps(foot_.x));
+    const __m256 abs_mask = _mm256_castsi256_ps(_mm256_set1_epi32(0x7fffffff));
+    const __m256 ru = side.x_major ? _mm256_and_ps(rx, abs_mask) : _mm256_set1_ps(std::fabs(ry));
+    const __m256 rv = side.x_major ? _mm256_set1_ps(ry) : rx;
+    const __m256 jf = _mm256_fmadd_ps(_mm256_div_ps(rv, ru), _mm256_set1_ps(side.lines_per_slope),
+                                      _mm256_set1_ps(-static_cast<float>(side.j_lo)));
+    const __m256i l0 = _mm256_min_epi32(
+        _mm256_max_epi32(_mm256_cvttps_epi32(_mm256_floor_ps(jf)), _mm256_setzero_si256()),
+        _mm256_set1_epi32(side.lines - 2));
+    const __m256 t =
+        _mm256_min_ps(_mm256_max_ps(_mm256_sub_ps(jf, _mm256_cvtepi32_ps(l0)), _mm256_setzero_ps()),
+                      _mm256_set1_ps(1.0f));
+    const __m256i k =
+        side.x_major
+            ? _mm256_mullo_epi32(
+                  _mm256_set1_epi32(side.sign),
+                  _mm256_sub_epi32(_mm256_add_epi32(_mm256_set1_epi32(x0),
+                                                    _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7)),
+                                   _mm256_set1_epi32(side.u_first)))
+            : _mm256_set1_epi32(side.sign * (y - side.u_first));
+    const __m256i in_range =
+        _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), k),
+                            _mm256_cmpgt_epi32(_mm256_set1_epi32(side.columns), k));
+    if (_mm256_movemask_ps(_mm256_castsi256_ps(in_range)) == 0xff) {
+      // at(line, k) = angle[((line >> 3) columns + k) 8 + (line & 7)]
+      auto slot = [&](__m256i line) {
+        return _mm256_add_epi32(
+            _mm256_slli_epi32(_mm256_add_epi32(_mm256_mullo_epi32(_mm256_srli_epi32(line, 3),
+                                                                  _mm256_set1_epi32(side.columns)),
+                                               k),
+                              3),
+            _mm256_and_si256(line, _mm256_set1_epi32(7)));
+      };
+      const __m256 lo = _mm256_i32gather_ps(side.angle.data(), slot(l0), 4);
+      const __m256 hi = _mm256_i32gather_ps(side.angle.data(),
+                                            slot(_mm256_add_epi32(l0, _mm256_set1_epi32(1))), 4);
+      const __m256 nan =
+          _mm256_or_ps(_mm256_cmp_ps(lo, lo, _CMP_UNORD_Q), _mm256_cmp_ps(hi, hi, _CMP_UNORD_Q));
+      if (_mm256_testz_ps(nan, nan)) {
+        _mm256_storeu_ps(out, _mm256_fmadd_ps(t, _mm256_sub_ps(hi, lo), lo));
+        return;
+      }
+    }
+  }
+#endif
+  for (int l = 0; l < 8; ++l) out[l] = horizon(x0 + l, y);
 }
 
 }  // namespace penumbra::terrain_shadow

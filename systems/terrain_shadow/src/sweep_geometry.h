@@ -18,8 +18,10 @@ struct AzimuthFrame {
   float metres_per_step = 1;  // plane distance of one major step
   int major_size = 0, minor_size = 0;
 
-  AzimuthFrame(const data::HeightField& f, double phi) {
-    const double dx = std::cos(phi), dy = std::sin(phi);
+  AzimuthFrame(const data::HeightField& f, double phi)
+      : AzimuthFrame(f, std::cos(phi), std::sin(phi)) {}
+  // The same from the direction (dx, dy) (any length > 0).
+  AzimuthFrame(const data::HeightField& f, double dx, double dy) {
     x_major = std::abs(dx) >= std::abs(dy);
     const double major = x_major ? dx : dy, minor = x_major ? dy : dx;
     step = major >= 0 ? 1 : -1;

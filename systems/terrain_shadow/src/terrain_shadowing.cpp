@@ -14,6 +14,7 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "fast_math.h"
 #include "penumbra/systems/terrain_shadow/cap_transfer.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/light_horizon_march.h"
@@ -430,7 +431,8 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       horizon[0] = swept ? *swept : radial_.horizon(x, y);
       if (cap.rho >= config_.cap_wide) {
         // A wide cap the horizon passes near: the horizon may vary across it.
-        const float e = std::atan2(cap.sin_e, cap.cos_e), half = std::asin(cap.rho);
+        const float e = detail::fast_atan(cap.sin_e / std::max(cap.cos_e, 1e-30f));
+        const float half = detail::fast_asin(cap.rho);
         one = !(horizon[0] > e - 2 * half && horizon[0] < e + 2 * half);
       }
     }
@@ -440,7 +442,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       horizon[j] = method == CapHorizons::kMarch
                        ? marcher->horizon(x, y, dir, cap.plane_distance / f.cell_size)
                        : ray_horizon(f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
-                                     std::atan2(dir.y, dir.x), cap.plane_distance, false);
+                                     dir, cap.plane_distance, false);
     }
     irradiance[i] +=
         radiance * cap_transfer(cap, normals_[i], horizon.data(), count, config_.cap_strips);
@@ -479,6 +481,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
       const int n = std::min(8, span.x1 - x0);
       CapLanes lanes;
+      if (n == 8) radial_.horizons8(x0, y, lanes.horizon);
       for (int l = 0; l < 8; ++l) {
         const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
         const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
@@ -489,7 +492,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         lanes.nx[l] = normals_[i].x;
         lanes.ny[l] = normals_[i].y;
         lanes.nz[l] = normals_[i].z;
-        lanes.horizon[l] = l < n ? radial_.horizon(x, y) : 0.0f;
+        if (n < 8) lanes.horizon[l] = l < n ? radial_.horizon(x, y) : 0.0f;
       }
       float e[8];
       const unsigned other =
@@ -509,7 +512,15 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     }
     if (cut_count > 0) flush_cut();
   };
-  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) { shade_span(si); });
+  // Tasks of at least ~1024 receivers: a light re-shading tiles has many short spans.
+  std::size_t texels = 0;
+  for (const Span& sp : spans) texels += static_cast<std::size_t>(sp.x1 - sp.x0);
+  const std::size_t grain =
+      std::max<std::size_t>(1, 1024 * spans.size() / std::max<std::size_t>(texels, 1));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, spans.size(), grain),
+                    [&](const tbb::blocked_range<std::size_t>& range) {
+                      for (std::size_t si = range.begin(); si < range.end(); ++si) shade_span(si);
+                    });
 }
 
 float disc_share_above(float above, float angular_radius) {

@@ -47,6 +47,10 @@ void sweep_direction_horizons(const data::HeightField& field, const HorizonParam
 // -pi/2 (or 0 with clamp_at_zero).
 float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
                   float start_height, float phi, float max_distance, bool clamp_at_zero);
+// The same along the plane direction `direction` (non-zero; need not be unit) instead of an
+// angle: no trigonometry (a light's cap directions, cap_horizon_direction).
+float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
+                  float start_height, glm::vec2 direction, float max_distance, bool clamp_at_zero);
 
 // Brute force, O(width) per texel and azimuth, for tests and as the reference of the other
 // methods; honours limit_to_point.

@@ -49,6 +49,9 @@ class RadialHorizonSweep {
   // Elevation (radians) of the horizon of texel (x, y) towards the foot; -pi/2 when no terrain
   // lies in between (the foot within a column of the texel, or outside the field).
   float horizon(int x, int y) const;
+  // horizon() of the eight texels (x0 + l, y), l < 8, all inside the field, into out[l]: the
+  // same floats, eight at a time where they lie on one side of the foot (AVX2).
+  void horizons8(int x0, int y, float* out) const;
 
  private:
   struct Side {
