@@ -330,31 +330,26 @@ TEST(LightShading, CapTransferOnEightLanesEqualsOneAtATime) {
       in.nz[l] = n.z;
       in.horizon[l] = e + (u01(rng) - 0.5f) * 0.2f;  // near the cap: all cases
     }
-    for (const bool cut_caps : {false, true}) {
+    for (const bool defer : {true, false}) {
       float got[8];
-      const unsigned other = cap_transfer8(in, radius, wide, 8, cut_caps, got);
+      const unsigned other = cap_transfer8(in, radius, wide, 8, defer, got);
       for (int l = 0; l < 8; ++l) {
         const glm::vec3 d(in.dx[l], in.dy[l], in.dz[l]), n(in.nx[l], in.ny[l], in.nz[l]);
         LightCap cap;
         const bool lit = glm::dot(d, n) > -radius && make_light_cap(d, radius, cap);
         const float nc = lit ? glm::dot(n, cap.dir) : 0.0f;
         const bool cut = lit && std::abs(nc) < cap.rho;
+        const float want = lit ? cap_transfer(cap, n, &in.horizon[l], 1) : 0.0f;
+        const float scale = lit ? kPi * cap.rho * cap.rho : 1.0f;
         if (other >> l & 1u) {
-          // Handed back: a wide cap, or without cut_caps one the tangent plane cuts (n.c to
-          // float rounding).
-          EXPECT_TRUE(lit && (cap.rho >= wide || (!cut_caps && std::abs(nc) < cap.rho * 1.0001f)))
-              << trial << " lane " << l;
+          // Handed back: a wide cap, or (deferred) one that may need chords.
+          EXPECT_TRUE(lit && (cap.rho >= wide || defer)) << trial << " lane " << l;
           ++handed_back;
           continue;
         }
         if (lit) {
           EXPECT_LT(cap.rho, wide * 1.0001f) << trial << " lane " << l;
         }
-        const float want = lit ? cap_transfer(cap, n, &in.horizon[l], 1) : 0.0f;
-        if (!cut_caps && std::abs(nc) < cap.rho * 0.9999f) {  // kept only where nothing is seen
-          EXPECT_EQ(want, 0.0f) << trial << " lane " << l;
-        }
-        const float scale = lit ? kPi * cap.rho * cap.rho : 1.0f;
         worst = std::max(worst, std::abs(got[l] - want) / scale);
         (cut ? cut_chords : chords) += want > 0 && want < 0.999f * scale * nc;
         zero += want == 0;
@@ -363,7 +358,7 @@ TEST(LightShading, CapTransferOnEightLanesEqualsOneAtATime) {
       }
     }
   }
-  EXPECT_GT(chords, 5000);     // measured 18,726
+  EXPECT_GT(chords, 4000);     // measured 9,363
   EXPECT_GT(cut_chords, 200);  // measured 397
   EXPECT_GT(handed_back, 500);
   EXPECT_GT(zero, 2000);

@@ -442,7 +442,7 @@ __m256 general_chords8(__m256 rho, __m256 cos_half, __m256 nc, __m256 ns, __m256
 }  // namespace
 #endif
 
-unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool cut_caps,
+unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
                        float* e) {
   strips = std::clamp(strips, 1, kMaxStrips);
 #ifdef __AVX2__
@@ -490,13 +490,16 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
   const __m256 in_front = _mm256_cmp_ps(nc, rho, _CMP_GE_OQ);
   const __m256 is_wide = _mm256_and_ps(_mm256_and_ps(outside, front),
                                        _mm256_cmp_ps(rho, _mm256_set1_ps(wide), _CMP_GE_OQ));
-  // Lanes left to the caller: wide caps, and caps the tangent plane cuts (general chords).
+  // Chords: caps in front of the tangent plane the horizon cuts (front_chords8) and caps the
+  // tangent plane cuts (general_chords8); wide caps are left to the caller.
   const __m256 cut = _mm256_andnot_ps(is_wide, _mm256_andnot_ps(in_front, visible));
-  const __m256 other = cut_caps ? is_wide : _mm256_or_ps(is_wide, cut);
   const __m256 whole = _mm256_and_ps(open, in_front);
-  const __m256 chords =
+  const __m256 front_chords =
       _mm256_andnot_ps(_mm256_or_ps(is_wide, cut), _mm256_andnot_ps(whole, visible));
-  const __m256 cut_chords = cut_caps ? cut : zero;
+  const __m256 need = _mm256_or_ps(front_chords, cut);
+  const __m256 other = defer_chords ? _mm256_or_ps(is_wide, need) : is_wide;
+  const __m256 chords = defer_chords ? zero : _mm256_and_ps(need, front_chords);
+  const __m256 cut_chords = defer_chords ? zero : cut;
   __m256 value = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(kPi), _mm256_mul_ps(rho, rho)), nc);
   const __m256 any_chords = _mm256_or_ps(chords, cut_chords);
   if (!_mm256_testz_ps(any_chords, any_chords)) {
@@ -529,8 +532,7 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     const glm::vec3 d(in.dx[l], in.dy[l], in.dz[l]), n(in.nx[l], in.ny[l], in.nz[l]);
     LightCap cap;
     if (glm::dot(d, n) <= -radius || !make_light_cap(d, radius, cap)) continue;
-    const bool cut = glm::dot(n, cap.dir) < cap.rho && glm::dot(n, cap.dir) > -cap.rho;
-    if (cap.rho >= wide || (cut && !cut_caps))
+    if (cap.rho >= wide || defer_chords)  // deferred: every lit lane, closed or not
       other |= 1u << l;
     else
       e[l] = cap_transfer(cap, n, &in.horizon[l], 1, strips);

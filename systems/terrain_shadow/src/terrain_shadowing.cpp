@@ -456,8 +456,9 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       for (int x = span.x0; x < span.x1; ++x) shade(x, y, nullptr);
       return;
     }
-    // With the sweep's one horizon, eight receivers at a time (cap_transfer8). Caps the tangent
-    // plane cuts are gathered and passed again eight at a time; wide caps take shade().
+    // With the sweep's one horizon, eight receivers at a time (cap_transfer8): the closed cases
+    // first, then the receivers that need chords gathered and passed again eight at a time;
+    // wide caps take shade().
     CapLanes cut;
     int cut_x[8];
     int cut_count = 0;
@@ -469,7 +470,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       }
       float e[8];
       const unsigned wide_caps =
-          cap_transfer8(cut, radius, config_.cap_wide, config_.cap_strips, true, e);
+          cap_transfer8(cut, radius, config_.cap_wide, config_.cap_strips, false, e);
       for (int l = 0; l < cut_count; ++l) {
         if (wide_caps >> l & 1u)
           shade(cut_x[l], y, &cut.horizon[l]);
@@ -496,7 +497,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       }
       float e[8];
       const unsigned other =
-          cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, false, e);
+          cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, true, e);
       for (int l = 0; l < n; ++l) {
         if (other >> l & 1u) {
           cut.dx[cut_count] = lanes.dx[l], cut.dy[cut_count] = lanes.dy[l];

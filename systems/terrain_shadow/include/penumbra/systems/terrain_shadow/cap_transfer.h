@@ -65,16 +65,16 @@ float cap_transfer(const LightCap& cap, const glm::vec3& normal, const float* ho
 // l of the result is clear, e[l] is what make_light_cap and cap_transfer give (to float
 // rounding, within 2e-5 pi rho^2: tested): 0 for a receiver inside the light, behind its
 // tangent plane (n.d <= -radius) or under a horizon above the whole cap, pi rho^2 (n.c) for a
-// cap wholly above the horizon and the tangent plane, else its chords, all lanes at once, one
-// chord a step. Bit l set: a cap with rho >= `wide` (the caller may take more horizons for it),
-// and, unless `cut_caps`, a cap the tangent plane cuts (so that a caller can gather those
-// eight at a time, they are rarer); the caller calls make_light_cap and cap_transfer or passes
-// them again with cut_caps. AVX2 where the build has it; per lane through cap_transfer
-// otherwise.
+// cap wholly above the horizon and the tangent plane, else its chords (all lanes at once, one
+// chord a step). Bit l set: a cap with rho >= `wide` (the caller may take more horizons for it:
+// make_light_cap and cap_transfer), and with `defer_chords` every lane that needs chords (they
+// cost the same for one lane as for eight, so a caller gathers them and passes them again).
+// AVX2 where the build has it; per lane through cap_transfer otherwise (deferring every lit
+// lane).
 struct CapLanes {
   float dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], horizon[8];
 };
-unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool cut_caps,
+unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
                        float* e);
 
 }  // namespace penumbra::terrain_shadow
