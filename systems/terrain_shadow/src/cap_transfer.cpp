@@ -281,20 +281,22 @@ float cap_transfer(const LightCap& cap, const glm::vec3& n, const float* horizon
 #ifdef __AVX2__
 namespace {
 
-// front_chords on eight receivers (one per lane), each with its own cap and horizon sine `a`
-// (-1: open); the strips' nodes are shared. Returns the sum over the chords per lane.
+// front_chords on eight receivers (one per lane), each with its own cap and, per chord j, its
+// horizon sine chord_a[j] (-1: open); the strips' nodes are shared. Returns the sum over the
+// chords per lane.
 __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, __m256 cos_e,
-                     __m256 a, int strips) {
+                     const __m256* chord_a, int strips) {
   const __m256 one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
   const __m256 tiny = _mm256_set1_ps(1e-30f), sign = _mm256_set1_ps(-0.0f);
   const __m256 below = _mm256_cmp_ps(sin_e, zero, _CMP_LT_OQ);
   const __m256 above = _mm256_cmp_ps(sin_e, zero, _CMP_GT_OQ);
-  const __m256 root = _mm256_mul_ps(a, a), base = _mm256_mul_ps(a, cos_e);
   const StripNodes& nodes = strip_nodes();
   const float* cos_psi = nodes.cos_psi.data() + nodes.offsets[strips];
   const float* sin_psi = nodes.sin_psi.data() + nodes.offsets[strips];
   __m256 acc = zero;
   for (int j = 0; j < strips; ++j) {
+    const __m256 a = chord_a[j];
+    const __m256 root = _mm256_mul_ps(a, a), base = _mm256_mul_ps(a, cos_e);
     const __m256 sn = _mm256_set1_ps(sin_psi[j]);
     const __m256 s = _mm256_mul_ps(rho, _mm256_set1_ps(cos_psi[j]));
     const __m256 h = _mm256_mul_ps(rho, sn);
@@ -365,7 +367,7 @@ __m256 cos8(__m256 x) {
 // horizon and by the tangent plane's sinusoid, up to three pieces a chord (the plane's interval
 // and its two 2 pi images), each sq (nc sin t - nu cos t) + ns s t integrated in closed form.
 __m256 general_chords8(__m256 rho, __m256 cos_half, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e,
-                       __m256 cos_e, __m256 a, int strips) {
+                       __m256 cos_e, const __m256* chord_a, int strips) {
   const __m256 one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
   const __m256 sign = _mm256_set1_ps(-0.0f), pi = _mm256_set1_ps(kPi);
   const __m256 half_pi = _mm256_set1_ps(kHalfPi), two_pi = _mm256_set1_ps(2 * kPi);
@@ -376,12 +378,12 @@ __m256 general_chords8(__m256 rho, __m256 cos_half, __m256 nc, __m256 ns, __m256
   const __m256 phase = _mm256_blendv_ps(
       base_phase, _mm256_sub_ps(_mm256_or_ps(_mm256_and_ps(sign, nu), pi), base_phase),
       _mm256_cmp_ps(nc, zero, _CMP_LT_OQ));
-  const __m256 aa = _mm256_mul_ps(a, a);
   const StripNodes& nodes = strip_nodes();
   const float* cos_psi = nodes.cos_psi.data() + nodes.offsets[strips];
   const float* sin_psi = nodes.sin_psi.data() + nodes.offsets[strips];
   __m256 acc = zero;
   for (int j = 0; j < strips; ++j) {
+    const __m256 a = chord_a[j], aa = _mm256_mul_ps(a, a);
     const __m256 sn = _mm256_set1_ps(sin_psi[j]);
     const __m256 s = _mm256_mul_ps(rho, _mm256_set1_ps(cos_psi[j]));
     const __m256 h = _mm256_mul_ps(rho, sn);
@@ -445,6 +447,7 @@ __m256 general_chords8(__m256 rho, __m256 cos_half, __m256 nc, __m256 ns, __m256
 unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
                        float* e) {
   strips = std::clamp(strips, 1, kMaxStrips);
+  const int count = std::clamp(in.count, 1, kMaxCapHorizons);
 #ifdef __AVX2__
   const __m256 dx = _mm256_loadu_ps(in.dx), dy = _mm256_loadu_ps(in.dy),
                dz = _mm256_loadu_ps(in.dz);
@@ -464,17 +467,26 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
   const __m256 cos_e = _mm256_mul_ps(plane, inv), sin_e = _mm256_mul_ps(dz, inv);
   const __m256 cos_half = _mm256_mul_ps(
       _mm256_sqrt_ps(_mm256_mul_ps(_mm256_sub_ps(dist, r), _mm256_add_ps(dist, r))), inv);
-  // sin of the horizon (fast_sin's polynomial), clamped to [-pi/2, pi/2].
+  // Sines of the horizon samples (fast_sin's polynomial, clamped to [-pi/2, pi/2]), their
+  // lowest and highest.
+  __m256 sh[kMaxCapHorizons];
   const __m256 half_pi = _mm256_set1_ps(kHalfPi);
-  const __m256 x = _mm256_min_ps(
-      _mm256_max_ps(_mm256_loadu_ps(in.horizon), _mm256_sub_ps(zero, half_pi)), half_pi);
-  const __m256 x2 = _mm256_mul_ps(x, x);
-  __m256 p = _mm256_set1_ps(-2.50521084e-8f);
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(2.75573192e-6f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.98412698e-4f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(8.33333333e-3f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.66666667e-1f));
-  const __m256 sh = _mm256_fmadd_ps(_mm256_mul_ps(x, x2), p, x);
+  for (int k = 0; k < count; ++k) {
+    const __m256 x = _mm256_min_ps(
+        _mm256_max_ps(_mm256_loadu_ps(in.horizon[k]), _mm256_sub_ps(zero, half_pi)), half_pi);
+    const __m256 x2 = _mm256_mul_ps(x, x);
+    __m256 p = _mm256_set1_ps(-2.50521084e-8f);
+    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(2.75573192e-6f));
+    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.98412698e-4f));
+    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(8.33333333e-3f));
+    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.66666667e-1f));
+    sh[k] = _mm256_fmadd_ps(_mm256_mul_ps(x, x2), p, x);
+  }
+  __m256 lowest = sh[0], highest = sh[0];
+  for (int k = 1; k < count; ++k) {
+    lowest = _mm256_min_ps(lowest, sh[k]);
+    highest = _mm256_max_ps(highest, sh[k]);
+  }
   // The cap's lowest and highest elevation (sines), as cap_transfer.
   const __m256 pole = _mm256_cmp_ps(rho, cos_e, _CMP_GT_OQ);
   const __m256 bottom = _mm256_blendv_ps(
@@ -485,8 +497,8 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
                        _mm256_and_ps(pole, _mm256_cmp_ps(sin_e, zero, _CMP_GT_OQ)));
   const __m256 lit = _mm256_and_ps(_mm256_and_ps(outside, front),
                                    _mm256_cmp_ps(nc, _mm256_sub_ps(zero, rho), _CMP_GT_OQ));
-  const __m256 visible = _mm256_and_ps(lit, _mm256_cmp_ps(sh, top, _CMP_LT_OQ));
-  const __m256 open = _mm256_cmp_ps(sh, bottom, _CMP_LE_OQ);
+  const __m256 visible = _mm256_and_ps(lit, _mm256_cmp_ps(lowest, top, _CMP_LT_OQ));
+  const __m256 open = _mm256_cmp_ps(highest, bottom, _CMP_LE_OQ);
   const __m256 in_front = _mm256_cmp_ps(nc, rho, _CMP_GE_OQ);
   const __m256 is_wide = _mm256_and_ps(_mm256_and_ps(outside, front),
                                        _mm256_cmp_ps(rho, _mm256_set1_ps(wide), _CMP_GE_OQ));
@@ -511,13 +523,31 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     const __m256 ns = _mm256_fmsub_ps(ny, pdx, _mm256_mul_ps(nx, pdy));
     const __m256 nu = _mm256_fmsub_ps(
         nz, cos_e, _mm256_mul_ps(sin_e, _mm256_fmadd_ps(ny, pdy, _mm256_mul_ps(nx, pdx))));
-    const __m256 a = _mm256_blendv_ps(sh, _mm256_set1_ps(-1.0f), open);
+    // The horizon along each chord: linear in tau = cos(psi) between the samples, as
+    // cap_transfer (the weights depend on the chord only); open: -1.
+    __m256 chord_a[kMaxStrips];
+    const StripNodes& sn = strip_nodes();
+    const float* cos_psi = sn.cos_psi.data() + sn.offsets[strips];
+    const float* tau = nodes().tau[count].data();
+    const __m256 minus_one = _mm256_set1_ps(-1.0f);
+    for (int j = 0; j < strips; ++j) {
+      __m256 a = sh[0];
+      if (count > 1) {
+        const float c = cos_psi[j];
+        int k = 0;
+        while (k + 2 < count && c > tau[k + 1]) ++k;
+        const float w = std::clamp((c - tau[k]) / (tau[k + 1] - tau[k]), 0.0f, 1.0f);
+        a = _mm256_fmadd_ps(_mm256_set1_ps(w), _mm256_sub_ps(sh[k + 1], sh[k]), sh[k]);
+      }
+      chord_a[j] = _mm256_blendv_ps(a, minus_one, open);
+    }
     __m256 sum = zero;
     if (!_mm256_testz_ps(chords, chords))
-      sum = front_chords8(rho, nc, ns, nu, sin_e, cos_e, a, strips);
+      sum = front_chords8(rho, nc, ns, nu, sin_e, cos_e, chord_a, strips);
     if (!_mm256_testz_ps(cut_chords, cut_chords))
       sum = _mm256_blendv_ps(
-          sum, general_chords8(rho, cos_half, nc, ns, nu, sin_e, cos_e, a, strips), cut_chords);
+          sum, general_chords8(rho, cos_half, nc, ns, nu, sin_e, cos_e, chord_a, strips),
+          cut_chords);
     const __m256 scaled = _mm256_max_ps(
         _mm256_mul_ps(sum, _mm256_mul_ps(rho, _mm256_set1_ps(kPi / static_cast<float>(strips)))),
         zero);
@@ -532,10 +562,13 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     const glm::vec3 d(in.dx[l], in.dy[l], in.dz[l]), n(in.nx[l], in.ny[l], in.nz[l]);
     LightCap cap;
     if (glm::dot(d, n) <= -radius || !make_light_cap(d, radius, cap)) continue;
-    if (cap.rho >= wide || defer_chords)  // deferred: every lit lane, closed or not
+    if (cap.rho >= wide || defer_chords) {  // deferred: every lit lane, closed or not
       other |= 1u << l;
-    else
-      e[l] = cap_transfer(cap, n, &in.horizon[l], 1, strips);
+    } else {
+      float horizon[kMaxCapHorizons];
+      for (int k = 0; k < count; ++k) horizon[k] = in.horizon[k][l];
+      e[l] = cap_transfer(cap, n, horizon, count, strips);
+    }
   }
   return other;
 #endif

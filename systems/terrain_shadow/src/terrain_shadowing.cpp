@@ -417,27 +417,16 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
   if (method == CapHorizons::kRadialSweep)
     radial_.run(f, height_scale_, glm::vec2(centre.x, centre.y), reach, regions);
   const bool sweep = method == CapHorizons::kRadialSweep;
-  // One receiver: the cap, its horizons (one from the sweep, or cap_horizons where the cap is
-  // wide or the method is not the sweep) and cap_transfer.
-  auto shade = [&](int x, int y, const float* swept) {
+  // One receiver (kMarch, kRays): the cap, its cap_horizons horizons and cap_transfer.
+  auto shade = [&](int x, int y) {
     const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
     const glm::vec3 d = centre - position(x, y);
     LightCap cap;
     if (glm::dot(d, normals_[i]) <= -radius || !make_light_cap(d, radius, cap)) return;
     // Horizons towards the cap only, limited to the light's plane distance ([Meier13] eq. 4.22).
     std::array<float, kMaxCapHorizons> horizon;
-    bool one = sweep;
-    if (sweep) {
-      horizon[0] = swept ? *swept : radial_.horizon(x, y);
-      if (cap.rho >= config_.cap_wide) {
-        // A wide cap the horizon passes near: the horizon may vary across it.
-        const float e = detail::fast_atan(cap.sin_e / std::max(cap.cos_e, 1e-30f));
-        const float half = detail::fast_asin(cap.rho);
-        one = !(horizon[0] > e - 2 * half && horizon[0] < e + 2 * half);
-      }
-    }
-    const int count = one ? 1 : config_.cap_horizons;
-    for (int j = 0; j < count && !one; ++j) {
+    const int count = config_.cap_horizons;
+    for (int j = 0; j < count; ++j) {
       const glm::vec2 dir = cap_horizon_direction(cap, j, count);
       horizon[j] = method == CapHorizons::kMarch
                        ? marcher->horizon(x, y, dir, cap.plane_distance / f.cell_size)
@@ -453,36 +442,63 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     const Span& span = spans[si];
     const int y = span.y;
     if (!sweep) {
-      for (int x = span.x0; x < span.x1; ++x) shade(x, y, nullptr);
+      for (int x = span.x0; x < span.x1; ++x) shade(x, y);
       return;
     }
-    // With the sweep's one horizon, eight receivers at a time (cap_transfer8): the closed cases
-    // first, then the receivers that need chords gathered and passed again eight at a time;
-    // wide caps take shade().
-    CapLanes cut;
-    int cut_x[8];
-    int cut_count = 0;
-    auto flush_cut = [&] {
-      for (int l = cut_count; l < 8; ++l) {  // padding lanes repeat the first
-        cut.dx[l] = cut.dx[0], cut.dy[l] = cut.dy[0], cut.dz[l] = cut.dz[0];
-        cut.nx[l] = cut.nx[0], cut.ny[l] = cut.ny[0], cut.nz[l] = cut.nz[0];
-        cut.horizon[l] = cut.horizon[0];
+    // With the sweep, eight receivers at a time (cap_transfer8): the closed cases first, then
+    // the receivers that need chords gathered and passed again eight at a time, wide caps with
+    // their cap_horizons samples (the middle one, tau = 0, is the foot's direction: the sweep's).
+    const int samples = config_.cap_horizons;
+    const int middle = samples % 2 == 1 ? samples / 2 : -1;
+    CapLanes batch;
+    int batch_x[8];
+    int queued = 0;
+    bool varied = false;  // some lane has samples of its own (else one sample is the same)
+    auto flush = [&] {
+      batch.count = varied ? samples : 1;
+      for (int l = queued; l < 8; ++l) {  // padding lanes repeat the first
+        batch.dx[l] = batch.dx[0], batch.dy[l] = batch.dy[0], batch.dz[l] = batch.dz[0];
+        batch.nx[l] = batch.nx[0], batch.ny[l] = batch.ny[0], batch.nz[l] = batch.nz[0];
+        for (int k = 0; k < samples; ++k) batch.horizon[k][l] = batch.horizon[k][0];
       }
       float e[8];
-      const unsigned wide_caps =
-          cap_transfer8(cut, radius, config_.cap_wide, config_.cap_strips, false, e);
-      for (int l = 0; l < cut_count; ++l) {
-        if (wide_caps >> l & 1u)
-          shade(cut_x[l], y, &cut.horizon[l]);
-        else if (e[l] > 0)
-          irradiance[static_cast<std::size_t>(y) * f.width + cut_x[l]] += radiance * e[l];
+      cap_transfer8(batch, radius, std::numeric_limits<float>::infinity(), config_.cap_strips,
+                    false, e);
+      for (int l = 0; l < queued; ++l)
+        if (e[l] > 0)
+          irradiance[static_cast<std::size_t>(y) * f.width + batch_x[l]] += radiance * e[l];
+      queued = 0;
+      varied = false;
+    };
+    auto enqueue = [&](const CapLanes& lanes, int l, int x) {
+      const int q = queued;
+      batch.dx[q] = lanes.dx[l], batch.dy[q] = lanes.dy[l], batch.dz[q] = lanes.dz[l];
+      batch.nx[q] = lanes.nx[l], batch.ny[q] = lanes.ny[l], batch.nz[q] = lanes.nz[l];
+      const float swept = lanes.horizon[0][l];
+      for (int k = 0; k < samples; ++k) batch.horizon[k][q] = swept;
+      const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
+      LightCap cap;
+      if (radius * radius >= config_.cap_wide * config_.cap_wide * glm::dot(d, d) &&
+          make_light_cap(d, radius, cap) && cap.rho >= config_.cap_wide) {
+        // A wide cap the horizon passes near: the horizon may vary across it.
+        const float e = detail::fast_atan(cap.sin_e / std::max(cap.cos_e, 1e-30f));
+        const float half = detail::fast_asin(cap.rho);
+        if (swept > e - 2 * half && swept < e + 2 * half) {
+          varied = true;
+          for (int k = 0; k < samples; ++k)
+            if (k != middle)
+              batch.horizon[k][q] =
+                  ray_horizon(f, height_scale_, glm::vec2(x, y), height_scale_ * f.at(x, y),
+                              cap_horizon_direction(cap, k, samples), cap.plane_distance, false);
+        }
       }
-      cut_count = 0;
+      batch_x[q] = x;
+      if (++queued == 8) flush();
     };
     for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
       const int n = std::min(8, span.x1 - x0);
       CapLanes lanes;
-      if (n == 8) radial_.horizons8(x0, y, lanes.horizon);
+      if (n == 8) radial_.horizons8(x0, y, lanes.horizon[0]);
       for (int l = 0; l < 8; ++l) {
         const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
         const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
@@ -493,25 +509,19 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         lanes.nx[l] = normals_[i].x;
         lanes.ny[l] = normals_[i].y;
         lanes.nz[l] = normals_[i].z;
-        if (n < 8) lanes.horizon[l] = l < n ? radial_.horizon(x, y) : 0.0f;
+        if (n < 8) lanes.horizon[0][l] = l < n ? radial_.horizon(x, y) : 0.0f;
       }
       float e[8];
       const unsigned other =
           cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, true, e);
       for (int l = 0; l < n; ++l) {
-        if (other >> l & 1u) {
-          cut.dx[cut_count] = lanes.dx[l], cut.dy[cut_count] = lanes.dy[l];
-          cut.dz[cut_count] = lanes.dz[l], cut.nx[cut_count] = lanes.nx[l];
-          cut.ny[cut_count] = lanes.ny[l], cut.nz[cut_count] = lanes.nz[l];
-          cut.horizon[cut_count] = lanes.horizon[l];
-          cut_x[cut_count] = x0 + l;
-          if (++cut_count == 8) flush_cut();
-        } else if (e[l] > 0) {
+        if (other >> l & 1u)
+          enqueue(lanes, l, x0 + l);
+        else if (e[l] > 0)
           irradiance[static_cast<std::size_t>(y) * f.width + x0 + l] += radiance * e[l];
-        }
       }
     }
-    if (cut_count > 0) flush_cut();
+    if (queued > 0) flush();
   };
   // Tasks of at least ~1024 receivers: a light re-shading tiles has many short spans.
   std::size_t texels = 0;

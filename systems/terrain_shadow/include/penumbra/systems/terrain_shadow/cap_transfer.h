@@ -60,19 +60,21 @@ inline constexpr int kMaxCapStrips = 64;
 float cap_transfer(const LightCap& cap, const glm::vec3& normal, const float* horizon, int count,
                    int strips = 8);
 
-// Eight receivers at once (struct of arrays), each with one horizon sample (count 1): lane l
-// has to_centre (dx, dy, dz)[l], unit normal (nx, ny, nz)[l] and horizon[l] (radians). Where bit
-// l of the result is clear, e[l] is what make_light_cap and cap_transfer give (to float
-// rounding, within 2e-5 pi rho^2: tested): 0 for a receiver inside the light, behind its
-// tangent plane (n.d <= -radius) or under a horizon above the whole cap, pi rho^2 (n.c) for a
-// cap wholly above the horizon and the tangent plane, else its chords (all lanes at once, one
-// chord a step). Bit l set: a cap with rho >= `wide` (the caller may take more horizons for it:
-// make_light_cap and cap_transfer), and with `defer_chords` every lane that needs chords (they
-// cost the same for one lane as for eight, so a caller gathers them and passes them again).
-// AVX2 where the build has it; per lane through cap_transfer otherwise (deferring every lit
-// lane).
+// Eight receivers at once (struct of arrays): lane l has to_centre (dx, dy, dz)[l], unit normal
+// (nx, ny, nz)[l] and `count` horizon samples horizon[k][l] (radians) at
+// cap_horizon_direction(cap, k, count). Where bit l of the result is clear, e[l] is what
+// make_light_cap and cap_transfer give (to float rounding, within 2e-5 pi rho^2: tested): 0 for
+// a receiver inside the light, behind its tangent plane (n.d <= -radius) or under a horizon
+// above the whole cap, pi rho^2 (n.c) for a cap wholly above the horizon and the tangent plane,
+// else its chords (all lanes at once, one chord a step). Bit l set: a cap with rho >= `wide`
+// (the caller may take more horizon samples for it and pass it again with `wide` infinite),
+// and with `defer_chords` every lane that needs chords (they cost the same for one lane as for
+// eight, so a caller gathers them and passes them again). AVX2 where the build has it; per lane
+// through cap_transfer otherwise (deferring every lit lane).
 struct CapLanes {
-  float dx[8], dy[8], dz[8], nx[8], ny[8], nz[8], horizon[8];
+  float dx[8], dy[8], dz[8], nx[8], ny[8], nz[8];
+  float horizon[kMaxCapHorizons][8];
+  int count = 1;  // horizon samples per lane, 1..kMaxCapHorizons
 };
 unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
                        float* e);
