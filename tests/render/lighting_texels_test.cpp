@@ -50,6 +50,29 @@ TEST(LightingTexels, RoundTripWithinTheStatedBound) {
   EXPECT_LT(worst_relative, 0.004f);
 }
 
+// Eight texels a step (AVX2) and one at a time give the same bytes, bad texels and a tail that
+// is not a multiple of eight included.
+TEST(LightingTexels, LanesEqualOneAtATime) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (const std::size_t n : {std::size_t{0}, std::size_t{5}, std::size_t{64}, std::size_t{1003}}) {
+    std::vector<glm::vec3> rgb(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const float level = std::pow(10.0f, -4.0f + 6.0f * u(rng));  // 1e-4 .. 100
+      rgb[i] = level * glm::vec3(u(rng), u(rng), u(rng));
+      if (i % 97 == 3) rgb[i].y = std::numeric_limits<float>::quiet_NaN();
+      if (i % 89 == 5) rgb[i].x = -1.0f;
+      if (i % 83 == 7) rgb[i] = glm::vec3(0.0f);
+    }
+    std::vector<std::uint8_t> lanes(4 * n, 1), scalar(4 * n, 2);
+    const RgbmPacking a = pack_rgbm(rgb.data(), n, lanes.data());
+    const RgbmPacking b = pack_rgbm_scalar(rgb.data(), n, scalar.data());
+    EXPECT_EQ(a.scale, b.scale) << n;
+    EXPECT_EQ(a.rejected, b.rejected) << n;
+    EXPECT_EQ(lanes, scalar) << n;
+  }
+}
+
 TEST(LightingTexels, BrightestTexelIsExactAndBlackIsZero) {
   const std::vector<glm::vec3> rgb{{4.0f, 2.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
   RgbmPacking p;

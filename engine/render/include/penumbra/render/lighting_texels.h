@@ -29,8 +29,10 @@ struct RgbmPacking {
   std::size_t rejected = 0;  // texels with a NaN, infinite or negative channel (set to 0)
 };
 
-// Packs n texels into out[4 n] (RGBA8 UNORM order).
+// Packs n texels into out[4 n] (RGBA8 UNORM order); eight texels a step with AVX2.
 RgbmPacking pack_rgbm(const glm::vec3* rgb, std::size_t n, std::uint8_t* out);
+// The same one texel at a time (tests: both give the same bytes).
+RgbmPacking pack_rgbm_scalar(const glm::vec3* rgb, std::size_t n, std::uint8_t* out);
 
 // The value the shader reconstructs from one packed texel (tests, tools).
 glm::vec3 unpack_rgbm(const std::uint8_t* texel, float scale);
