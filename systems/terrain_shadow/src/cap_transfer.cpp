@@ -96,6 +96,40 @@ struct CapFrame {
   const float* horizon;  // per chord: sine of the horizon elevation; padded with -1
 };
 
+#ifdef __AVX2__
+// The bounds [lo, hi] in u of eight chords (lanes) above the horizon sine a and inside the cap
+// (|u| <= h), with c0 = sqrt(q - u^2) at both ends: w_z = c0 sin_e + u cos_e > a bounds u at
+// a cos_e -+ sqrt(q - a^2) sin_e. `below` / `above`: sin_e < 0 / > 0 (masks).
+struct ChordBounds {
+  __m256 lo, hi, c_lo, c_hi;
+};
+inline ChordBounds chord_bounds8(__m256 a, __m256 q, __m256 h, __m256 sin_e, __m256 cos_e,
+                                 __m256 below, __m256 above) {
+  const __m256 zero = _mm256_setzero_ps(), sign = _mm256_set1_ps(-0.0f);
+  const __m256 r = _mm256_sqrt_ps(q);
+  const __m256 root = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(a, a, q), zero));
+  const __m256 base = _mm256_mul_ps(a, cos_e);
+  const __m256 lower = _mm256_fnmadd_ps(root, sin_e, base);
+  const __m256 upper = _mm256_fmadd_ps(root, sin_e, base);
+  const __m256 cr = _mm256_mul_ps(cos_e, r);
+  const __m256 valid = _mm256_cmp_ps(a, _mm256_xor_ps(r, sign), _CMP_GT_OQ);
+  const __m256 lower_on = _mm256_and_ps(
+      valid, _mm256_or_ps(below, _mm256_cmp_ps(a, _mm256_xor_ps(cr, sign), _CMP_GT_OQ)));
+  const __m256 upper_on =
+      _mm256_and_ps(_mm256_and_ps(valid, above), _mm256_cmp_ps(a, cr, _CMP_GT_OQ));
+  const __m256 hidden = _mm256_or_ps(_mm256_cmp_ps(a, r, _CMP_GE_OQ),
+                                     _mm256_andnot_ps(above, _mm256_cmp_ps(a, cr, _CMP_GE_OQ)));
+  const __m256 neg_h = _mm256_xor_ps(h, sign);
+  ChordBounds b;
+  b.lo = _mm256_max_ps(neg_h, _mm256_blendv_ps(neg_h, lower, lower_on));
+  b.hi = _mm256_min_ps(h, _mm256_blendv_ps(h, upper, upper_on));
+  b.hi = _mm256_blendv_ps(_mm256_max_ps(b.hi, b.lo), b.lo, hidden);
+  b.c_lo = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(b.lo, b.lo, q), zero));
+  b.c_hi = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(b.hi, b.hi, q), zero));
+  return b;
+}
+#endif
+
 // Chords of a cap wholly in front of the tangent plane, in u (see the header): the horizon
 // bounds u by square roots alone and the chord integral of (n.w) / c0 du is
 //   nc (hi - lo) + ns s (asin(hi / sq) - asin(lo / sq)) + nu (c0(lo) - c0(hi)),
@@ -115,26 +149,10 @@ float front_chords(const CapFrame& f) {
     const __m256 sn = _mm256_loadu_ps(f.sin_psi + j);
     const __m256 s = _mm256_mul_ps(rho, _mm256_loadu_ps(f.cos_psi + j));
     const __m256 h = _mm256_mul_ps(rho, sn);
-    const __m256 aj = _mm256_loadu_ps(f.horizon + j);
-    const __m256 q = _mm256_fnmadd_ps(s, s, one), r = _mm256_sqrt_ps(q);
-    // w_z = c0 sin_e + u cos_e > a; boundaries u = a cos_e -+ sqrt(q - a^2) sin_e.
-    const __m256 root = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(aj, aj, q), zero));
-    const __m256 base = _mm256_mul_ps(aj, cos_e);
-    const __m256 lower = _mm256_fnmadd_ps(root, sin_e, base);
-    const __m256 upper = _mm256_fmadd_ps(root, sin_e, base);
-    const __m256 cr = _mm256_mul_ps(cos_e, r);
-    const __m256 valid = _mm256_cmp_ps(aj, _mm256_xor_ps(r, sign), _CMP_GT_OQ);
-    const __m256 lower_on =
-        _mm256_and_ps(valid, below ? all : _mm256_cmp_ps(aj, _mm256_xor_ps(cr, sign), _CMP_GT_OQ));
-    const __m256 upper_on = _mm256_and_ps(valid, above ? _mm256_cmp_ps(aj, cr, _CMP_GT_OQ) : zero);
-    const __m256 hidden = _mm256_or_ps(_mm256_cmp_ps(aj, r, _CMP_GE_OQ),
-                                       above ? zero : _mm256_cmp_ps(aj, cr, _CMP_GE_OQ));
-    const __m256 neg_h = _mm256_xor_ps(h, sign);
-    const __m256 lo = _mm256_max_ps(neg_h, _mm256_blendv_ps(neg_h, lower, lower_on));
-    __m256 hi = _mm256_min_ps(h, _mm256_blendv_ps(h, upper, upper_on));
-    hi = _mm256_blendv_ps(_mm256_max_ps(hi, lo), lo, hidden);
-    const __m256 c_lo = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(lo, lo, q), zero));
-    const __m256 c_hi = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(hi, hi, q), zero));
+    const __m256 q = _mm256_fnmadd_ps(s, s, one);
+    const ChordBounds cb = chord_bounds8(_mm256_loadu_ps(f.horizon + j), q, h, sin_e, cos_e,
+                                         below ? all : zero, above ? all : zero);
+    const __m256 lo = cb.lo, hi = cb.hi, c_lo = cb.c_lo, c_hi = cb.c_hi;
     // asin(v / sq) = atan(v / c0(v)).
     const __m256 as = _mm256_sub_ps(detail::fast_atan_ratio8(hi, _mm256_max_ps(c_hi, tiny)),
                                     detail::fast_atan_ratio8(lo, _mm256_max_ps(c_lo, tiny)));
@@ -295,29 +313,12 @@ __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, 
   const float* sin_psi = nodes.sin_psi.data() + nodes.offsets[strips];
   __m256 acc = zero;
   for (int j = 0; j < strips; ++j) {
-    const __m256 a = chord_a[j];
-    const __m256 root = _mm256_mul_ps(a, a), base = _mm256_mul_ps(a, cos_e);
     const __m256 sn = _mm256_set1_ps(sin_psi[j]);
     const __m256 s = _mm256_mul_ps(rho, _mm256_set1_ps(cos_psi[j]));
     const __m256 h = _mm256_mul_ps(rho, sn);
-    const __m256 q = _mm256_fnmadd_ps(s, s, one), r = _mm256_sqrt_ps(q);
-    const __m256 w = _mm256_sqrt_ps(_mm256_max_ps(_mm256_sub_ps(q, root), zero));
-    const __m256 lower = _mm256_fnmadd_ps(w, sin_e, base);
-    const __m256 upper = _mm256_fmadd_ps(w, sin_e, base);
-    const __m256 cr = _mm256_mul_ps(cos_e, r);
-    const __m256 valid = _mm256_cmp_ps(a, _mm256_xor_ps(r, sign), _CMP_GT_OQ);
-    const __m256 lower_on = _mm256_and_ps(
-        valid, _mm256_or_ps(below, _mm256_cmp_ps(a, _mm256_xor_ps(cr, sign), _CMP_GT_OQ)));
-    const __m256 upper_on =
-        _mm256_and_ps(_mm256_and_ps(valid, above), _mm256_cmp_ps(a, cr, _CMP_GT_OQ));
-    const __m256 hidden = _mm256_or_ps(_mm256_cmp_ps(a, r, _CMP_GE_OQ),
-                                       _mm256_andnot_ps(above, _mm256_cmp_ps(a, cr, _CMP_GE_OQ)));
-    const __m256 neg_h = _mm256_xor_ps(h, sign);
-    const __m256 lo = _mm256_max_ps(neg_h, _mm256_blendv_ps(neg_h, lower, lower_on));
-    __m256 hi = _mm256_min_ps(h, _mm256_blendv_ps(h, upper, upper_on));
-    hi = _mm256_blendv_ps(_mm256_max_ps(hi, lo), lo, hidden);
-    const __m256 c_lo = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(lo, lo, q), zero));
-    const __m256 c_hi = _mm256_sqrt_ps(_mm256_max_ps(_mm256_fnmadd_ps(hi, hi, q), zero));
+    const __m256 q = _mm256_fnmadd_ps(s, s, one);
+    const ChordBounds cb = chord_bounds8(chord_a[j], q, h, sin_e, cos_e, below, above);
+    const __m256 lo = cb.lo, hi = cb.hi, c_lo = cb.c_lo, c_hi = cb.c_hi;
     // asin(hi / sq) - asin(lo / sq) as one angle: atan2(hi c_lo - lo c_hi, c_hi c_lo + hi lo)
     // in [0, pi], and c0(lo) - c0(hi) in product form (tiny caps keep their precision), both
     // from one division.
@@ -340,27 +341,6 @@ __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, 
     acc = _mm256_fmadd_ps(sn, chord, acc);
   }
   return acc;
-}
-
-// sin and cos on [-pi/2, pi/2] (Taylor to x^11 and x^12: errors under 6e-8).
-__m256 sin8(__m256 x) {
-  const __m256 x2 = _mm256_mul_ps(x, x);
-  __m256 p = _mm256_set1_ps(-2.50521084e-8f);
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(2.75573192e-6f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.98412698e-4f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(8.33333333e-3f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.66666667e-1f));
-  return _mm256_fmadd_ps(_mm256_mul_ps(x, x2), p, x);
-}
-__m256 cos8(__m256 x) {
-  const __m256 x2 = _mm256_mul_ps(x, x);
-  __m256 p = _mm256_set1_ps(2.08767570e-9f);
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-2.75573192e-7f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(2.48015873e-5f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.38888889e-3f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(4.16666667e-2f));
-  p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-0.5f));
-  return _mm256_fmadd_ps(p, x2, _mm256_set1_ps(1.0f));
 }
 
 // general_chords on eight receivers (caps the tangent plane cuts): chords in t, bounded by the
@@ -431,9 +411,10 @@ __m256 general_chords8(__m256 rho, __m256 cos_half, __m256 nc, __m256 ns, __m256
       if (_mm256_testz_ps(use, use)) continue;
       const __m256 m = _mm256_mul_ps(_mm256_add_ps(u, l), _mm256_set1_ps(0.5f));
       const __m256 half = _mm256_mul_ps(_mm256_sub_ps(u, l), _mm256_set1_ps(0.5f));
-      const __m256 chord = _mm256_fmadd_ps(_mm256_mul_ps(_mm256_add_ps(r, r), sin8(half)),
-                                           _mm256_fmadd_ps(nc, cos8(m), _mm256_mul_ps(nu, sin8(m))),
-                                           _mm256_mul_ps(nss, _mm256_sub_ps(u, l)));
+      const __m256 chord = _mm256_fmadd_ps(
+          _mm256_mul_ps(_mm256_add_ps(r, r), detail::fast_sin8(half)),
+          _mm256_fmadd_ps(nc, detail::fast_cos8(m), _mm256_mul_ps(nu, detail::fast_sin8(m))),
+          _mm256_mul_ps(nss, _mm256_sub_ps(u, l)));
       part = _mm256_add_ps(part, _mm256_and_ps(use, chord));
     }
     acc = _mm256_fmadd_ps(sn, _mm256_and_ps(ok, part), acc);
@@ -472,15 +453,8 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
   __m256 sh[kMaxCapHorizons];
   const __m256 half_pi = _mm256_set1_ps(kHalfPi);
   for (int k = 0; k < count; ++k) {
-    const __m256 x = _mm256_min_ps(
-        _mm256_max_ps(_mm256_loadu_ps(in.horizon[k]), _mm256_sub_ps(zero, half_pi)), half_pi);
-    const __m256 x2 = _mm256_mul_ps(x, x);
-    __m256 p = _mm256_set1_ps(-2.50521084e-8f);
-    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(2.75573192e-6f));
-    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.98412698e-4f));
-    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(8.33333333e-3f));
-    p = _mm256_fmadd_ps(p, x2, _mm256_set1_ps(-1.66666667e-1f));
-    sh[k] = _mm256_fmadd_ps(_mm256_mul_ps(x, x2), p, x);
+    sh[k] = detail::fast_sin8(_mm256_min_ps(
+        _mm256_max_ps(_mm256_loadu_ps(in.horizon[k]), _mm256_sub_ps(zero, half_pi)), half_pi));
   }
   __m256 lowest = sh[0], highest = sh[0];
   for (int k = 1; k < count; ++k) {
