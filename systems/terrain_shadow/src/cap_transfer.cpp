@@ -141,7 +141,7 @@ float front_chords(const CapFrame& f) {
 #ifdef __AVX2__
   const __m256 rho = _mm256_set1_ps(f.rho), one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps();
   const __m256 sin_e = _mm256_set1_ps(f.sin_e), cos_e = _mm256_set1_ps(f.cos_e);
-  const __m256 tiny = _mm256_set1_ps(1e-30f), sign = _mm256_set1_ps(-0.0f);
+  const __m256 tiny = _mm256_set1_ps(1e-30f);
   const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
   const __m256 nc = _mm256_set1_ps(f.nc), ns = _mm256_set1_ps(f.ns), nu = _mm256_set1_ps(f.nu);
   __m256 acc = zero;
