@@ -1,4 +1,5 @@
-// One group of RadialHorizonSweep's lines, scalar and on AVX2 lanes (radial_sweep_lanes.h).
+// One group of RadialHorizonSweep's lines, scalar and on AVX2 lanes (radial_sweep_lanes.h): the
+// upper-hull sweep of [Timonen10] along lines radiating from the light's foot ([Meier13] eq. 4.22).
 #include "radial_sweep_lanes.h"
 
 #include <algorithm>
