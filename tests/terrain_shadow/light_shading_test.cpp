@@ -10,12 +10,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <random>
 #include <stdexcept>
 #include <vector>
 
+#include <tbb/global_control.h>
 #include <glm/geometric.hpp>
 
 #include "penumbra/assets/procedural.h"
@@ -408,6 +410,51 @@ TEST(LightShading, RadialSweepEqualsRayHorizonTowardsTheFoot) {
     EXPECT_GT(lines, 20);
     EXPECT_LT(on_line, 1e-5);       // measured 3e-8
     EXPECT_LT(sum / count, 0.015);  // measured 5.5e-3 to 8.6e-3: interpolation between lines
+  }
+}
+
+// horizons8 gives horizon()'s floats for eight texels of a row, whichever side of the foot they
+// lie on (its vector path or its fallback), feet inside and outside the field.
+TEST(LightShading, RadialHorizonsEightAtATimeEqualOneAtATime) {
+  auto f = mountains(64);
+  int vector_rows = 0;
+  for (const glm::vec2 foot : {glm::vec2(30.5f, 20.0f), glm::vec2(40.0f, 51.5f),
+                               glm::vec2(-20.0f, 30.0f), glm::vec2(70.0f, -3.0f)}) {
+    RadialHorizonSweep sweep;
+    sweep.run(*f, 1.2f, foot * f->cell_size);
+    for (int y = 0; y < 64; ++y)
+      for (int x0 = 0; x0 + 8 <= 64; x0 += 8) {
+        float eight[8];
+        sweep.horizons8(x0, y, eight);
+        bool all_finite = true;
+        for (int l = 0; l < 8; ++l) {
+          const float one = sweep.horizon(x0 + l, y);
+          ASSERT_TRUE(eight[l] == one || (std::isnan(eight[l]) && std::isnan(one)))
+              << "foot (" << foot.x << ", " << foot.y << ") texel (" << x0 + l << ", " << y
+              << "): " << eight[l] << " vs " << one;
+          all_finite = all_finite && std::isfinite(one);
+        }
+        vector_rows += all_finite;
+      }
+  }
+  EXPECT_GT(vector_rows, 500);
+}
+
+// The same light twice on two threads gives the same bits: which thread shades which span must
+// not matter (docs/terrain_shadow.md, "Lights, third round": TBB's inlined copies of a parallel
+// body once fused multiply-adds differently).
+TEST(LightShading, OneLightTwiceOnTwoThreadsGivesTheSameBits) {
+  tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);
+  TerrainShadowing<4> ts(mode(LightShading::kCapHorizon));
+  ts.update(mountains(128), 1.0f);
+  const glm::vec3 centre = ts.position(64, 60) + glm::vec3(0.0f, 0.0f, 6.0f);
+  std::vector<glm::vec3> first;
+  ts.add_spherical_light(centre, 2.0f, glm::vec3(1.0f), first);
+  for (int run = 0; run < 8; ++run) {
+    std::vector<glm::vec3> again;
+    ts.add_spherical_light(centre, 2.0f, glm::vec3(1.0f), again);
+    ASSERT_EQ(std::memcmp(first.data(), again.data(), first.size() * sizeof(glm::vec3)), 0)
+        << "run " << run;
   }
 }
 

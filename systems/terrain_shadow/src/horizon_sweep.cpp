@@ -305,24 +305,30 @@ bool line_slope(const data::HeightField& field, float scale, const detail::Azimu
 
 }  // namespace
 
-float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
-                  float start_height, float phi, float max_distance, bool clamp_at_zero) {
-  const detail::AzimuthFrame frame(field, phi);
+namespace {
+// ray_horizon along a frame's direction (both overloads).
+float frame_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
+                    float start_height, const detail::AzimuthFrame& frame, float max_distance,
+                    bool clamp_at_zero) {
   const double us = frame.x_major ? start.x : start.y, bs = frame.x_major ? start.y : start.x;
   float best = 0;
   const bool any = line_slope(field, height_scale, frame, bs - frame.slope * us, us, start_height,
                               max_distance, best);
   return to_angle(best, any, clamp_at_zero);
 }
+}  // namespace
+
+float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
+                  float start_height, float phi, float max_distance, bool clamp_at_zero) {
+  return frame_horizon(field, height_scale, start, start_height, detail::AzimuthFrame(field, phi),
+                       max_distance, clamp_at_zero);
+}
 
 float ray_horizon(const data::HeightField& field, float height_scale, glm::vec2 start,
                   float start_height, glm::vec2 direction, float max_distance, bool clamp_at_zero) {
-  const detail::AzimuthFrame frame(field, direction.x, direction.y);
-  const double us = frame.x_major ? start.x : start.y, bs = frame.x_major ? start.y : start.x;
-  float best = 0;
-  const bool any = line_slope(field, height_scale, frame, bs - frame.slope * us, us, start_height,
-                              max_distance, best);
-  return to_angle(best, any, clamp_at_zero);
+  return frame_horizon(field, height_scale, start, start_height,
+                       detail::AzimuthFrame(field, direction.x, direction.y), max_distance,
+                       clamp_at_zero);
 }
 
 float sweep_line_horizon(const data::HeightField& field, const HorizonParams& params, int x, int y,

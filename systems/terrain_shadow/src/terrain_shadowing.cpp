@@ -523,15 +523,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     }
     if (queued > 0) flush();
   };
-  // Tasks of at least ~1024 receivers: a light re-shading tiles has many short spans.
-  std::size_t texels = 0;
-  for (const Span& sp : spans) texels += static_cast<std::size_t>(sp.x1 - sp.x0);
-  const std::size_t grain =
-      std::max<std::size_t>(1, 1024 * spans.size() / std::max<std::size_t>(texels, 1));
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, spans.size(), grain),
-                    [&](const tbb::blocked_range<std::size_t>& range) {
-                      for (std::size_t si = range.begin(); si < range.end(); ++si) shade_span(si);
-                    });
+  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) { shade_span(si); });
 }
 
 float disc_share_above(float above, float angular_radius) {
