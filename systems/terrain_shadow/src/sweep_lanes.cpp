@@ -21,9 +21,8 @@ namespace {
 constexpr int kPad = kGroupLines;          // zero samples either side of a padded column
 constexpr int kAccPad = kGroupLines + 8;   // accumulator slots either side of the minor range
 constexpr int kVectors = kGroupLines / 8;  // AVX2 vectors per group
-// A recorded receiver's angles: 8 zero slots, then its kGroupLines lanes (the zeros let the
-// scatter read "the lane below" with one unaligned load).
-constexpr int kRecord = kGroupLines + 8;
+constexpr int kGroupShift = 4;             // kGroupLines == 1 << kGroupShift
+static_assert(kGroupLines == 1 << kGroupShift);
 
 }  // namespace
 
@@ -39,6 +38,44 @@ LaneFields::LaneFields(const data::HeightField& f)
 }
 
 namespace {
+
+// Where a group's receivers go: acc / weight, layout [u - u0][v - v0 + kAccPad], `row` floats
+// per u, for receivers with major coordinate in [rec_lo, rec_hi) and minor in [v0, v1).
+struct Accumulator {
+  float* acc;
+  float* weight;
+  int u0, v0, v1, row, rec_lo, rec_hi;
+
+  // Lane l's line lies t above texel b0 + l and 1 - t below texel b0 + l + 1: texel b0 + m gets
+  // t times lane m - 1's angle, then 1 - t times lane m's, in the scalar sweep's order; one
+  // store per slot (overlapping stores would stall on store forwarding).
+  void add(int u, int b0, float t, const __m256 (&angle)[kVectors],
+           const __m256 (&valid)[kVectors]) const {
+    const __m256i rotate = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);  // lane l -> l + 1
+    const __m256 lo = _mm256_set1_ps(1.0f - t), hi = _mm256_set1_ps(t), zero = _mm256_setzero_ps();
+    const std::size_t q = static_cast<std::size_t>(u - u0) * row + (b0 - v0 + kAccPad);
+    float* a = acc + q;
+    float* w = weight + q;
+    __m256 prev_angle = zero, prev_valid = zero;  // the last vector, rotated
+    for (int g = 0; g <= kVectors; ++g) {
+      __m256 below_angle = zero, below_valid = zero, cur_angle = zero, cur_valid = zero;
+      if (g < kVectors) {
+        cur_angle = angle[g], cur_valid = valid[g];
+        below_angle = _mm256_permutevar8x32_ps(cur_angle, rotate);
+        below_valid = _mm256_permutevar8x32_ps(cur_valid, rotate);
+      }
+      // Lane 0 takes the previous vector's lane 7.
+      const __m256 a_below = _mm256_blend_ps(below_angle, prev_angle, 1);
+      const __m256 v_below = _mm256_blend_ps(below_valid, prev_valid, 1);
+      prev_angle = below_angle, prev_valid = below_valid;
+      const __m256 w_hi = _mm256_and_ps(v_below, hi), w_lo = _mm256_and_ps(cur_valid, lo);
+      const __m256 s = _mm256_fmadd_ps(w_hi, a_below, _mm256_loadu_ps(a + 8 * g));
+      _mm256_storeu_ps(a + 8 * g, _mm256_fmadd_ps(w_lo, cur_angle, s));
+      _mm256_storeu_ps(w + 8 * g,
+                       _mm256_add_ps(_mm256_add_ps(_mm256_loadu_ps(w + 8 * g), w_hi), w_lo));
+    }
+  }
+};
 
 // What every group of an azimuth shares.
 struct Sweep {
@@ -64,12 +101,12 @@ struct Sweep {
   }
   int far_end() const { return frame.step > 0 ? frame.major_size - 1 : 0; }
 
-  // Sweeps lines cg..cg+kGroupLines-1 from the far end of the field down to u_stop, recording
-  // the receivers with major coordinate in [rec_lo, rec_hi) as angles; returns how many.
-  std::size_t run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScratch& sc) const;
+  // Sweeps lines cg..cg+kGroupLines-1 from the far end of the field down to u_stop, adding the
+  // receivers' angles into `out`.
+  void run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc) const;
 };
 
-std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScratch& sc) const {
+void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc) const {
   constexpr int W = kGroupLines, G = kVectors;
   // Columns where any of the group's lines is inside the field (widened by one).
   int ua = 0, ub = frame.major_size - 1;
@@ -79,44 +116,46 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
     ua = std::max(ua, static_cast<int>(std::floor(*std::min_element(e, e + 4))) - 1);
     ub = std::min(ub, static_cast<int>(std::ceil(*std::max_element(e, e + 4))) + 1);
   } else if (cg + W - 1 < 0 || cg > bmax) {
-    return 0;
+    return;
   }
   if (frame.step > 0)
     ub = std::min(ub, far_end()), ua = std::max(ua, u_stop);
   else
     ua = std::max(ua, far_end()), ub = std::min(ub, u_stop);
-  if (ua > ub) return 0;
+  if (ua > ub) return;
 
   const std::size_t cap = static_cast<std::size_t>(frame.major_size);
   if (sc.hull_h.size() < cap * W) {
-    sc.hull_h.resize(cap * W), sc.hull_j.resize(cap * W), sc.slope.resize(cap * kRecord + 16);
-    sc.rec_u.resize(cap), sc.rec_b.resize(cap), sc.rec_t.resize(cap), sc.rec_valid.resize(cap);
+    sc.hull_h.resize(cap * W), sc.hull_j.resize(cap * W);
   }
-  float* hull_h = sc.hull_h.data();
-  float* hull_j = sc.hull_j.data();
+  // The hull as linked lists through the group's steps: step s's slot s * W + lane holds the
+  // point that was on top of that lane's hull when the step pushed its sample (the sample's
+  // own height and j are in registers, a = top). A pop then reads the new third point from
+  // the slot of the old one, and a push is one contiguous store per vector.
+  float* link_h = sc.hull_h.data();
+  float* link_j = sc.hull_j.data();
+  const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
+  const float j_start = static_cast<float>(frame.step * u_start);  // j = j_start - step index
   const __m256 vscale = _mm256_set1_ps(scale), mps = _mm256_set1_ps(frame.metres_per_step);
+  const __m256 vj_start = _mm256_set1_ps(j_start);
   __m256i lane[G];
   for (int g = 0; g < G; ++g)
     lane[g] = _mm256_add_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(8 * g));
   const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
-  auto index = [&](__m256i top, int below, int g) {  // hull slot top - below, >= 0
-    const __m256i d =
-        _mm256_max_epi32(_mm256_sub_epi32(top, _mm256_set1_epi32(below)), _mm256_setzero_si256());
-    return _mm256_add_epi32(_mm256_mullo_epi32(d, _mm256_set1_epi32(W)), lane[g]);
-  };
 
   // Per vector: hull size per lane, and the top three hull points in registers (a = top - 1,
   // b = top - 2, c = top - 3): a pop needs only a and b, and the gather that refills c after a
-  // pop is not on the path to the next comparison. The hull arrays hold the full stacks.
+  // pop is not on the path to the next comparison. Absent points sit at j_start + 1 (slot -1,
+  // read as slot 0 and never used: `top` guards every use).
   __m256i top[G];
   __m256 ah[G], aj[G], bh[G], bj[G], ch[G], cj[G];
   for (int g = 0; g < G; ++g) {
     top[g] = _mm256_setzero_si256();
-    ah[g] = aj[g] = bh[g] = bj[g] = ch[g] = cj[g] = _mm256_setzero_ps();
+    ah[g] = bh[g] = ch[g] = _mm256_setzero_ps();
+    aj[g] = bj[g] = cj[g] = _mm256_set1_ps(j_start + 1.0f);
   }
-  std::size_t records = 0;
-  const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
-  for (int u = u_start;; u -= frame.step) {
+  int s = 0;  // step index: j = j_start - s
+  for (int u = u_start;; u -= frame.step, ++s) {
     const double base = cg + frame.slope * u;  // lane l sits at base + l
     const int b0 = static_cast<int>(std::floor(base));
     if (b0 + W - 1 >= 0 && b0 <= bmax) {
@@ -153,48 +192,42 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
         }
         if (_mm256_testz_ps(any, any)) break;
         for (int g = 0; g < G; ++g) {
+          // The slot c was pushed at holds the point below it.
+          const __m256i slot = _mm256_max_epi32(
+              _mm256_cvttps_epi32(_mm256_sub_ps(vj_start, cj[g])), _mm256_setzero_si256());
+          const __m256i i3 = _mm256_add_epi32(_mm256_slli_epi32(slot, kGroupShift), lane[g]);
           top[g] = _mm256_add_epi32(top[g], _mm256_castps_si256(pop[g]));  // -1 where popping
           ah[g] = _mm256_blendv_ps(ah[g], bh[g], pop[g]);
           aj[g] = _mm256_blendv_ps(aj[g], bj[g], pop[g]);
           bh[g] = _mm256_blendv_ps(bh[g], ch[g], pop[g]);
           bj[g] = _mm256_blendv_ps(bj[g], cj[g], pop[g]);
-          const __m256i i3 = index(top[g], 3, g);  // the new third point, from memory
-          ch[g] = _mm256_mask_i32gather_ps(ch[g], hull_h, i3, pop[g], 4);
-          cj[g] = _mm256_mask_i32gather_ps(cj[g], hull_j, i3, pop[g], 4);
+          ch[g] = _mm256_mask_i32gather_ps(ch[g], link_h, i3, pop[g], 4);
+          cj[g] = _mm256_mask_i32gather_ps(cj[g], link_j, i3, pop[g], 4);
         }
       }
-      if (u >= rec_lo && u < rec_hi) {
-        std::uint32_t bits = 0;
+      if (u >= out.rec_lo && u < out.rec_hi && b0 + W >= out.v0 && b0 < out.v1) {
+        // The receivers' angles, onto the texels either side (issued here, off the hull's
+        // dependency chain, so they overlap the next step's pops).
+        __m256 angle[G];
         for (int g = 0; g < G; ++g) {
           const __m256i has =
               _mm256_and_si256(ok[g], _mm256_cmpgt_epi32(top[g], _mm256_setzero_si256()));
-          const __m256 s = _mm256_div_ps(_mm256_sub_ps(ah[g], h[g]),
-                                         _mm256_mul_ps(_mm256_sub_ps(aj[g], j), mps));
+          const __m256 sl = _mm256_div_ps(_mm256_sub_ps(ah[g], h[g]),
+                                          _mm256_mul_ps(_mm256_sub_ps(aj[g], j), mps));
           // Nothing ahead: -inf (atan -pi/2); outside the field: 0 (weight 0, kept finite).
-          const __m256 v = _mm256_blendv_ps(minus_inf, s, _mm256_castsi256_ps(has));
-          _mm256_storeu_ps(sc.slope.data() + records * kRecord + 8 + 8 * g,
-                           _mm256_and_ps(v, valid[g]));
-          bits |= static_cast<std::uint32_t>(_mm256_movemask_ps(valid[g])) << (8 * g);
+          const __m256 v = _mm256_blendv_ps(minus_inf, sl, _mm256_castsi256_ps(has));
+          angle[g] = fast_atan8(_mm256_and_ps(v, valid[g]));
+          if (clamp) angle[g] = _mm256_max_ps(angle[g], _mm256_setzero_ps());
         }
-        sc.rec_u[records] = u;
-        sc.rec_b[records] = b0;
-        sc.rec_t[records] = t;
-        sc.rec_valid[records] = bits;
-        ++records;
+        out.add(u, b0, t, angle, valid);
       }
-      // Push on the lanes inside the field. AVX2 has no scatter: scalar stores, on every lane
-      // (a lane outside the field writes above its stack, which its top does not reach).
+      // Push on the lanes inside the field: slot s keeps the old top (every lane stores; a
+      // lane outside the field never reads slot s back, its top does not move).
+      float* link_h_s = link_h + static_cast<std::size_t>(s) * W;
+      float* link_j_s = link_j + static_cast<std::size_t>(s) * W;
       for (int g = 0; g < G; ++g) {
-        alignas(32) float hv[8];
-        alignas(32) int tv[8];
-        _mm256_store_ps(hv, h[g]);
-        _mm256_store_si256(
-            reinterpret_cast<__m256i*>(tv),
-            _mm256_add_epi32(_mm256_mullo_epi32(top[g], _mm256_set1_epi32(W)), lane[g]));
-        for (int l = 0; l < 8; ++l) {
-          hull_h[tv[l]] = hv[l];
-          hull_j[tv[l]] = jf;
-        }
+        _mm256_storeu_ps(link_h_s + 8 * g, ah[g]);
+        _mm256_storeu_ps(link_j_s + 8 * g, aj[g]);
         top[g] = _mm256_sub_epi32(top[g], _mm256_castps_si256(valid[g]));  // +1 where valid
         ch[g] = _mm256_blendv_ps(ch[g], bh[g], valid[g]);
         cj[g] = _mm256_blendv_ps(cj[g], bj[g], valid[g]);
@@ -205,45 +238,6 @@ std::size_t Sweep::run_group(int cg, int u_stop, int rec_lo, int rec_hi, LaneScr
       }
     }
     if (u == u_end) break;
-  }
-  fast_atan_array(sc.slope.data(), records * kRecord);  // the zero slots stay 0
-  if (clamp)
-    for (std::size_t i = 0; i < records * kRecord; ++i) sc.slope[i] = std::max(sc.slope[i], 0.0f);
-  return records;
-}
-
-// Adds a group's records into acc / weight (layout [u - u0][v - v0 + kAccPad], `row` floats per
-// u): lane l's line lies t above texel b0 + l and 1 - t below texel b0 + l + 1.
-void scatter(LaneScratch& sc, std::size_t records, int u0, int v0, int v1, int row) {
-  constexpr int W = kGroupLines;
-  float* acc_base = sc.acc.data();
-  float* wgt_base = sc.weight.data();
-  const __m256i bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-  auto lanes_of = [&](std::uint64_t m) {  // eight lane bits as a mask
-    return _mm256_castsi256_ps(
-        _mm256_cmpgt_epi32(_mm256_and_si256(_mm256_set1_epi32(static_cast<int>(m & 255u)), bits),
-                           _mm256_setzero_si256()));
-  };
-  for (std::size_t i = 0; i < records; ++i) {
-    const int b0 = sc.rec_b[i];
-    if (b0 + W < v0 || b0 >= v1) continue;
-    const float t = sc.rec_t[i];
-    const __m256 lo = _mm256_set1_ps(1.0f - t), hi = _mm256_set1_ps(t);
-    const std::uint64_t below = sc.rec_valid[i], above = below << 1;
-    const float* angle = sc.slope.data() + i * kRecord + 8;
-    float* acc = acc_base + static_cast<std::size_t>(sc.rec_u[i] - u0) * row + (b0 - v0 + kAccPad);
-    float* wgt = wgt_base + (acc - acc_base);
-    // Texel b0 + m: t times lane m - 1's angle (its line lies below), then 1 - t times lane m's
-    // (above), in the scalar sweep's order; one store per slot, no overlapping stores.
-    for (int g = 0; g <= kVectors; ++g) {
-      const __m256 w_hi = _mm256_and_ps(lanes_of(above >> (8 * g)), hi);
-      const __m256 w_lo = _mm256_and_ps(lanes_of(below >> (8 * g)), lo);
-      const __m256 a =
-          _mm256_fmadd_ps(w_hi, _mm256_loadu_ps(angle + 8 * g - 1), _mm256_loadu_ps(acc + 8 * g));
-      _mm256_storeu_ps(acc + 8 * g, _mm256_fmadd_ps(w_lo, _mm256_loadu_ps(angle + 8 * g), a));
-      _mm256_storeu_ps(wgt + 8 * g,
-                       _mm256_add_ps(_mm256_add_ps(_mm256_loadu_ps(wgt + 8 * g), w_hi), w_lo));
-    }
   }
 }
 
@@ -271,7 +265,8 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   const int c_lo = static_cast<int>(std::floor(lo)) - 1, c_hi = static_cast<int>(std::ceil(hi)) + 1;
   const int u_near = frame.step > 0 ? u0 : u1 - 1;  // sweep down to the region's near edge
   for (int cg = Sweep::group_of(c_lo); cg <= c_hi; cg += kGroupLines)
-    scatter(sc, sw.run_group(cg, u_near, u0, u1, sc), u0, v0, v1, row);
+    sw.run_group(cg, u_near, Accumulator{sc.acc.data(), sc.weight.data(), u0, v0, v1, row, u0, u1},
+                 sc);
 
   // acc / weight, 8 x 8 blocks at a time (transposed in registers where u is x).
   const int w = r.width(), nu = u1 - u0, nv = v1 - v0;
@@ -361,7 +356,8 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
   }
   const int u_near = frame.step > 0 ? 0 : major - 1;
   for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += kGroupLines)
-    scatter(sc, sw.run_group(cg, u_near, u_lo, u_hi, sc), 0, 0, minor, row);
+    sw.run_group(cg, u_near,
+                 Accumulator{sc.acc.data(), sc.weight.data(), 0, 0, minor, row, u_lo, u_hi}, sc);
 
   std::size_t pairs = 0;
   for (int u = u_lo; u < u_hi; ++u) {

@@ -33,11 +33,7 @@ struct LaneFields {
 
 struct LaneScratch {
   std::vector<float> acc, weight;     // (major, minor + padding) layout
-  std::vector<float> hull_h, hull_j;  // [depth * kGroupLines + lane]
-  std::vector<float> slope;           // recorded receivers: 8 zeros, then kGroupLines lanes
-  std::vector<int> rec_u, rec_b;
-  std::vector<float> rec_t;
-  std::vector<std::uint32_t> rec_valid;  // lane bits
+  std::vector<float> hull_h, hull_j;  // [step * kGroupLines + lane]: the hull's links
 };
 
 // Azimuth k of the region into `plane` (region-sized, row-major in x, y): the contract of the
