@@ -6,13 +6,13 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <optional>
 #include <stdexcept>
 #include <vector>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "fast_math.h"
 #include "sweep_geometry.h"
@@ -160,13 +160,33 @@ void prepare_output(const data::HeightField& f, const HorizonParams& p, HorizonG
 
 }  // namespace
 
+// Per thread: one task's planes and kernel scratch; and the field's padded copies.
+struct SweepWorkspace::Buffers {
+  struct Task {
+    std::vector<float> planes;
+    Scratch scalar;
+#ifdef __AVX2__
+    detail::LaneScratch lanes;
+#endif
+  };
+  tbb::enumerable_thread_specific<Task> tasks;
+#ifdef __AVX2__
+  detail::LaneFields fields;
+#endif
+};
+
+SweepWorkspace::SweepWorkspace() : buffers_(std::make_unique<Buffers>()) {}
+SweepWorkspace::~SweepWorkspace() = default;
+SweepWorkspace::SweepWorkspace(SweepWorkspace&&) noexcept = default;
+SweepWorkspace& SweepWorkspace::operator=(SweepWorkspace&&) noexcept = default;
+
 namespace {
 
 // kLanes: eight lines per AVX2 step (sweep_lanes.h); kScalar: one line at a time.
 enum class Kernel { kScalar, kLanes };
 
 void sweep(const data::HeightField& field, const HorizonParams& params, const TexelRect& region,
-           HorizonGrid& out, Kernel kernel) {
+           HorizonGrid& out, Kernel kernel, SweepWorkspace::Buffers& ws) {
   validate_horizon_input(field, params, region);
   if (params.limit_to_point)
     throw std::invalid_argument(
@@ -174,35 +194,39 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   prepare_output(field, params, out);
   if (region.empty()) return;
 #ifdef __AVX2__
-  std::optional<detail::LaneFields> fields;
-  if (kernel == Kernel::kLanes) fields.emplace(field);
+  if (kernel == Kernel::kLanes) ws.fields.assign(field);
 #else
   kernel = Kernel::kScalar;
 #endif
   // Parallel over blocks of azimuths: each task sweeps its azimuths into planes, then writes
   // them into the texels' records together (a contiguous run per texel, not one strided float
-  // per azimuth, which would touch every record's cache line once per azimuth).
-  constexpr int kBlock = 8;
-  const int blocks = (params.azimuths + kBlock - 1) / kBlock;
+  // per azimuth, which would touch every record's cache line once per azimuth). A task's
+  // buffers are its thread's: the body runs no nested parallel work, so no other task of this
+  // loop can start on the thread before it ends. Blocks of 16 azimuths write whole cache lines
+  // of the records (8: half lines, each read for ownership twice); their planes, 4 MB at 256^2,
+  // spill the 2 MB L2 where 8 fit, so 16 only above 256^2 texels (1024^2, n_phi 64: horizons
+  // 9% faster; 256^2: slower, docs/terrain_shadow.md), and while there are still blocks for every thread.
+  const bool wide = region.count() > 256 * 256 &&
+                    params.azimuths / 16 >= tbb::this_task_arena::max_concurrency();
+  const int block_size = wide ? 16 : 8;
+  const int blocks = (params.azimuths + block_size - 1) / block_size;
   tbb::parallel_for(0, blocks, [&](int block) {
-    const int k0 = block * kBlock, k1 = std::min(k0 + kBlock, params.azimuths);
-    std::vector<float> planes(static_cast<std::size_t>(k1 - k0) * region.count());
-    Scratch sc;
-#ifdef __AVX2__
-    detail::LaneScratch lanes;
-#endif
+    const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
+    SweepWorkspace::Buffers::Task& task = ws.tasks.local();
+    task.planes.resize(static_cast<std::size_t>(k1 - k0) * region.count());
     for (int k = k0; k < k1; ++k) {
-      float* plane = planes.data() + (k - k0) * region.count();
+      float* plane = task.planes.data() + (k - k0) * region.count();
 #ifdef __AVX2__
       if (kernel == Kernel::kLanes) {
-        detail::sweep_azimuth_lanes(field, *fields, params, region, k, lanes, plane);
+        detail::sweep_azimuth_lanes(field, ws.fields, params, region, k, task.lanes, plane);
         continue;
       }
 #endif
-      sweep_azimuth(field, params, region, k, sc, plane);
+      sweep_azimuth(field, params, region, k, task.scalar, plane);
     }
+    const float* planes = task.planes.data();
 #ifdef __AVX2__
-    detail::texel_records(planes.data(), region.count(), region, k0, k1, out);
+    detail::texel_records(planes, region.count(), region, k0, k1, out);
 #else
     std::size_t i = 0;
     for (int y = region.y0; y < region.y1; ++y)
@@ -218,7 +242,13 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 
 void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out) {
-  sweep(field, params, region, out, Kernel::kLanes);
+  SweepWorkspace workspace;
+  sweep(field, params, region, out, Kernel::kLanes, workspace.buffers());
+}
+
+void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
+                    const TexelRect& region, HorizonGrid& out, SweepWorkspace& workspace) {
+  sweep(field, params, region, out, Kernel::kLanes, workspace.buffers());
 }
 
 void sweep_direction_horizons(const data::HeightField& field, const HorizonParams& params,
@@ -242,6 +272,13 @@ void sweep_direction_horizons(const data::HeightField& field, const HorizonParam
 std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
                                    const TexelRect& edited, HorizonGrid& out,
                                    std::vector<unsigned char>& changed) {
+  SweepWorkspace workspace;
+  return sweep_horizons_through(field, params, edited, out, changed, workspace);
+}
+
+std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
+                                   const TexelRect& edited, HorizonGrid& out,
+                                   std::vector<unsigned char>& changed, SweepWorkspace& workspace) {
   validate_horizon_input(field, params, edited);
   if (params.limit_to_point)
     throw std::invalid_argument(
@@ -251,19 +288,19 @@ std::size_t sweep_horizons_through(const data::HeightField& field, const Horizon
                                 ": sweep_horizons_through needs the previous horizons");
   changed.resize(static_cast<std::size_t>(field.width) * field.height, 0);
   if (edited.empty()) return 0;
+  SweepWorkspace::Buffers& ws = workspace.buffers();
 #ifdef __AVX2__
-  const detail::LaneFields fields(field);
+  ws.fields.assign(field);
   std::atomic<std::size_t> pairs{0};
-  // One scratch per thread, not per azimuth: its accumulators are field-sized.
-  tbb::enumerable_thread_specific<detail::LaneScratch> scratch;
+  // Each thread's scratch (its accumulators are field-sized), as sweep()'s tasks.
   tbb::parallel_for(0, params.azimuths, [&](int k) {
-    pairs += detail::sweep_azimuth_lines_through(field, fields, params, edited, k, scratch.local(),
-                                                 out, changed.data());
+    pairs += detail::sweep_azimuth_lines_through(field, ws.fields, params, edited, k,
+                                                 ws.tasks.local().lanes, out, changed.data());
   });
   return pairs;
 #else
   HorizonGrid fresh;
-  sweep(field, params, TexelRect::all(field), fresh, Kernel::kScalar);
+  sweep(field, params, TexelRect::all(field), fresh, Kernel::kScalar, ws);
   for (int y = 0; y < field.height; ++y)
     for (int x = 0; x < field.width; ++x)
       for (int k = 0; k < params.azimuths; ++k)
@@ -277,7 +314,8 @@ std::size_t sweep_horizons_through(const data::HeightField& field, const Horizon
 
 void sweep_horizons_scalar(const data::HeightField& field, const HorizonParams& params,
                            const TexelRect& region, HorizonGrid& out) {
-  sweep(field, params, region, out, Kernel::kScalar);
+  SweepWorkspace workspace;
+  sweep(field, params, region, out, Kernel::kScalar, workspace.buffers());
 }
 
 namespace {

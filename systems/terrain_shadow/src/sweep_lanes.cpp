@@ -26,8 +26,9 @@ static_assert(kGroupLines == 1 << kGroupShift);
 
 }  // namespace
 
-LaneFields::LaneFields(const data::HeightField& f)
-    : stride_x(f.height + 2 * kPad + 1), stride_y(f.width + 2 * kPad + 1) {
+void LaneFields::assign(const data::HeightField& f) {
+  stride_x = f.height + 2 * kPad + 1;
+  stride_y = f.width + 2 * kPad + 1;
   x_major.assign(static_cast<std::size_t>(f.width) * stride_x, 0.0f);
   y_major.assign(static_cast<std::size_t>(f.height) * stride_y, 0.0f);
   for (int y = 0; y < f.height; ++y)
@@ -39,11 +40,20 @@ LaneFields::LaneFields(const data::HeightField& f)
 
 namespace {
 
-// Where a group's receivers go: acc / weight, layout [u - u0][v - v0 + kAccPad], `row` floats
-// per u, for receivers with major coordinate in [rec_lo, rec_hi) and minor in [v0, v1).
+// The weight add() gives texel v (minor) of a column whose lines lie t above their texels: t
+// from the line below unless v is the field's first row, then 1 - t from the line above unless
+// v is its last (bmax) and t > 0, added in add()'s order. Every group crossing a column has the
+// same t up to the rounding of c + slope u, so the weights need no array of their own.
+float texel_weight(int v, int bmax, float t) {
+  return (0.0f + (v >= 1 ? t : 0.0f)) + (v < bmax || t == 0.0f ? 1.0f - t : 0.0f);
+}
+
+// Where a group's receivers go: acc, layout [u - u0][v - v0 + kAccPad], `row` floats per u,
+// and each column's t (t_of_u[u - u0]), for receivers with major coordinate in [rec_lo, rec_hi)
+// and minor in [v0, v1).
 struct Accumulator {
   float* acc;
-  float* weight;
+  float* t_of_u;
   int u0, v0, v1, row, rec_lo, rec_hi;
 
   // Lane l's line lies t above texel b0 + l and 1 - t below texel b0 + l + 1: texel b0 + m gets
@@ -55,7 +65,7 @@ struct Accumulator {
     const __m256 lo = _mm256_set1_ps(1.0f - t), hi = _mm256_set1_ps(t), zero = _mm256_setzero_ps();
     const std::size_t q = static_cast<std::size_t>(u - u0) * row + (b0 - v0 + kAccPad);
     float* a = acc + q;
-    float* w = weight + q;
+    t_of_u[u - u0] = t;
     __m256 prev_angle = zero, prev_valid = zero;  // the last vector, rotated
     for (int g = 0; g <= kVectors; ++g) {
       __m256 below_angle = zero, below_valid = zero, cur_angle = zero, cur_valid = zero;
@@ -71,8 +81,6 @@ struct Accumulator {
       const __m256 w_hi = _mm256_and_ps(v_below, hi), w_lo = _mm256_and_ps(cur_valid, lo);
       const __m256 s = _mm256_fmadd_ps(w_hi, a_below, _mm256_loadu_ps(a + 8 * g));
       _mm256_storeu_ps(a + 8 * g, _mm256_fmadd_ps(w_lo, cur_angle, s));
-      _mm256_storeu_ps(w + 8 * g,
-                       _mm256_add_ps(_mm256_add_ps(_mm256_loadu_ps(w + 8 * g), w_hi), w_lo));
     }
   }
 };
@@ -257,22 +265,30 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   const int u0 = frame.x_major ? r.x0 : r.y0, u1 = frame.x_major ? r.x1 : r.y1;
   const int v0 = frame.x_major ? r.y0 : r.x0, v1 = frame.x_major ? r.y1 : r.x1;
   const int row = (v1 - v0) + 2 * kAccPad;
-  sc.acc.assign(static_cast<std::size_t>(u1 - u0) * row, 0.0f);
-  sc.weight.assign(sc.acc.size(), 0.0f);
+  // acc is left zeroed by the pass below; zeroed here only when its shape changed.
+  const std::size_t size = static_cast<std::size_t>(u1 - u0) * row;
+  if (sc.acc.size() != size || sc.acc_row != row) sc.acc.assign(size, 0.0f);
+  sc.acc_row = row;
+  sc.t_of_u.resize(static_cast<std::size_t>(u1 - u0));
   // Lines b = c + slope * u with integer c bracketing every texel of the region.
   const double lo = std::min(v0 - frame.slope * u0, v0 - frame.slope * (u1 - 1));
   const double hi = std::max((v1 - 1) - frame.slope * u0, (v1 - 1) - frame.slope * (u1 - 1));
   const int c_lo = static_cast<int>(std::floor(lo)) - 1, c_hi = static_cast<int>(std::ceil(hi)) + 1;
   const int u_near = frame.step > 0 ? u0 : u1 - 1;  // sweep down to the region's near edge
   for (int cg = Sweep::group_of(c_lo); cg <= c_hi; cg += kGroupLines)
-    sw.run_group(cg, u_near, Accumulator{sc.acc.data(), sc.weight.data(), u0, v0, v1, row, u0, u1},
+    sw.run_group(cg, u_near, Accumulator{sc.acc.data(), sc.t_of_u.data(), u0, v0, v1, row, u0, u1},
                  sc);
 
-  // acc / weight, 8 x 8 blocks at a time (transposed in registers where u is x).
-  const int w = r.width(), nu = u1 - u0, nv = v1 - v0;
-  const float* acc = sc.acc.data() + kAccPad;
-  const float* wgt = sc.weight.data() + kAccPad;
-  auto value = [&](std::size_t i) { return wgt[i] > 0 ? acc[i] / wgt[i] : 0.0f; };
+  // acc / weight, 8 x 8 blocks at a time (transposed in registers where u is x), zeroing acc
+  // behind (its padding included) for the next azimuth.
+  const int w = r.width(), nu = u1 - u0, nv = v1 - v0, bmax = sw.bmax;
+  float* acc = sc.acc.data() + kAccPad;
+  const float* t_of_u = sc.t_of_u.data();
+  auto value = [&](int u, int v) {
+    const std::size_t i = static_cast<std::size_t>(u) * row + v;
+    const float wt = texel_weight(v0 + v, bmax, t_of_u[u]);
+    return wt > 0 ? acc[i] / wt : 0.0f;
+  };
   auto at = [&](int u, int v) {  // plane index of (u, v), relative to the region
     return frame.x_major ? static_cast<std::size_t>(v) * w + u
                          : static_cast<std::size_t>(u) * w + v;
@@ -281,9 +297,18 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   for (int u = 0; u < nu8; u += 8)
     for (int v = 0; v < nv8; v += 8) {
       __m256 m[8];
+      const bool edge = v0 + v == 0 || v0 + v + 7 >= bmax;  // a lane on the first or last row
       for (int i = 0; i < 8; ++i) {
         const std::size_t q = static_cast<std::size_t>(u + i) * row + v;
-        const __m256 a = _mm256_loadu_ps(acc + q), b = _mm256_loadu_ps(wgt + q);
+        const float t = t_of_u[u + i];
+        __m256 b = _mm256_set1_ps(texel_weight(v0 + v + 1, bmax, t));
+        if (edge) {
+          alignas(32) float wl[8];
+          for (int l = 0; l < 8; ++l) wl[l] = texel_weight(v0 + v + l, bmax, t);
+          b = _mm256_load_ps(wl);
+        }
+        const __m256 a = _mm256_loadu_ps(acc + q);
+        _mm256_storeu_ps(acc + q, _mm256_setzero_ps());
         m[i] =
             _mm256_and_ps(_mm256_div_ps(a, b), _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_GT_OQ));
       }
@@ -291,9 +316,15 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
       for (int i = 0; i < 8; ++i)
         _mm256_storeu_ps(plane + (frame.x_major ? at(u, v + i) : at(u + i, v)), m[i]);
     }
-  for (int u = 0; u < nu; ++u)
-    for (int v = u < nu8 ? nv8 : 0; v < nv; ++v)
-      plane[at(u, v)] = value(static_cast<std::size_t>(u) * row + v);
+  for (int u = 0; u < nu; ++u) {
+    for (int v = u < nu8 ? nv8 : 0; v < nv; ++v) {
+      plane[at(u, v)] = value(u, v);
+      acc[static_cast<std::size_t>(u) * row + v] = 0.0f;
+    }
+    float* pad = acc + static_cast<std::size_t>(u) * row;
+    std::fill(pad - kAccPad, pad, 0.0f);
+    std::fill(pad + nv, pad + nv + kAccPad, 0.0f);
+  }
 }
 
 void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
@@ -333,10 +364,10 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
       static_cast<int>(std::ceil(std::max(vb - frame.slope * ua, vb - frame.slope * ub))) + 2;
   const int major = frame.major_size, minor = frame.minor_size;
   const int row = minor + 2 * kAccPad;
-  if (sc.acc.size() < static_cast<std::size_t>(major) * row) {
+  if (sc.acc.size() < static_cast<std::size_t>(major) * row)
     sc.acc.resize(static_cast<std::size_t>(major) * row);
-    sc.weight.resize(sc.acc.size());
-  }
+  sc.acc_row = 0;  // not left zeroed
+  sc.t_of_u.resize(static_cast<std::size_t>(major));
   // Texels whose two lines are both in [c_first, c_last]: c_first <= v - slope u < c_last.
   auto texel_range = [&](int u, int& lo, int& hi) {
     lo = std::max(static_cast<int>(std::ceil(c_first + frame.slope * u)), 0);
@@ -351,13 +382,12 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
     texel_range(u, lo, hi);
     for (int v = lo; v < hi; ++v) {
       sc.acc[static_cast<std::size_t>(u) * row + v + kAccPad] = 0;
-      sc.weight[static_cast<std::size_t>(u) * row + v + kAccPad] = 0;
     }
   }
   const int u_near = frame.step > 0 ? 0 : major - 1;
   for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += kGroupLines)
     sw.run_group(cg, u_near,
-                 Accumulator{sc.acc.data(), sc.weight.data(), 0, 0, minor, row, u_lo, u_hi}, sc);
+                 Accumulator{sc.acc.data(), sc.t_of_u.data(), 0, 0, minor, row, u_lo, u_hi}, sc);
 
   std::size_t pairs = 0;
   for (int u = u_lo; u < u_hi; ++u) {
@@ -365,7 +395,8 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
     texel_range(u, lo, hi);
     for (int v = lo; v < hi; ++v, ++pairs) {
       const std::size_t i = static_cast<std::size_t>(u) * row + v + kAccPad;
-      const float a = sc.weight[i] > 0 ? sc.acc[i] / sc.weight[i] : 0.0f;
+      const float wt = texel_weight(v, sw.bmax, sc.t_of_u[u]);
+      const float a = wt > 0 ? sc.acc[i] / wt : 0.0f;
       const int x = frame.x_major ? u : v, y = frame.x_major ? v : u;
       float& dst = out.texel(x, y)[k];
       if (dst != a) {

@@ -28,11 +28,15 @@ inline constexpr int kGroupLines = 16;
 struct LaneFields {
   std::vector<float> x_major, y_major;
   int stride_x = 0, stride_y = 0;
-  explicit LaneFields(const data::HeightField& f);
+  LaneFields() = default;
+  explicit LaneFields(const data::HeightField& f) { assign(f); }
+  void assign(const data::HeightField& f);  // reuses the vectors' storage
 };
 
 struct LaneScratch {
-  std::vector<float> acc, weight;     // (major, minor + padding) layout
+  std::vector<float> acc;             // (major, minor + padding) layout
+  int acc_row = 0;                    // > 0: acc is all zeros, rows of acc_row floats
+  std::vector<float> t_of_u;          // per major coordinate: the lines' offset t
   std::vector<float> hull_h, hull_j;  // [step * kGroupLines + lane]: the hull's links
 };
 

@@ -106,10 +106,11 @@ HorizonParams env_params(const TerrainShadowConfig& c, float scale) {
 // Horizons of `region` by `method` (the pyramid must be built for kMarch).
 void compute_horizons(HorizonMethod method, const data::HeightField& f,
                       const HeightPyramid& pyramid, const HorizonParams& p,
-                      const MarchParams& march, const TexelRect& region, HorizonGrid& out) {
+                      const MarchParams& march, const TexelRect& region, HorizonGrid& out,
+                      SweepWorkspace& sweep) {
   switch (method) {
     case HorizonMethod::kSweep:
-      sweep_horizons(f, p, region, out);
+      sweep_horizons(f, p, region, out, sweep);
       break;
     case HorizonMethod::kMarch:
       // The march is single-threaded per call: bands of 8 rows in parallel (disjoint writes
@@ -218,7 +219,8 @@ UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const data::HeightField>
     pyramid_.build(f, height_scale, config_.pyramid);
     pyramid_valid_ = true;
   }
-  compute_horizons(config_.method, f, pyramid_, p, config_.march, TexelRect::all(f), horizons_);
+  compute_horizons(config_.method, f, pyramid_, p, config_.march, TexelRect::all(f), horizons_,
+                   sweep_);
   compute_transfer_rows(nullptr);
   return {true, n * config_.azimuths, n};
 }
@@ -253,7 +255,7 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightF
   for (int y = e.y0; y < e.y1; ++y)
     for (int x = e.x0; x < e.x1; ++x) changed[static_cast<std::size_t>(y) * w + x] = 1;
   UpdateStats stats;
-  stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed);
+  stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed, sweep_);
   for (unsigned char c : changed) stats.transfer_texels += c;
   compute_transfer_rows(&changed);
   return stats;

@@ -12,12 +12,13 @@
 // passes through every texel).
 //
 // Cost: about width * height samples per azimuth, each a few compares; on AVX2 eight lines run
-// per step as masked vector operations (src/sweep_lanes.h). Memory: one line's hull. Threading:
-// pure function of its inputs; calls for disjoint regions or different outputs may run
-// concurrently.
+// per step as masked vector operations (src/sweep_lanes.h). Memory: per task, 8 or 16 azimuths' planes
+// of the region and one line group's hull. Threading: pure function of its inputs; calls for
+// disjoint regions or different outputs may run concurrently (each with its own SweepWorkspace).
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include <glm/vec2.hpp>
@@ -26,11 +27,33 @@
 
 namespace penumbra::terrain_shadow {
 
+// The sweep's buffers kept from one call to the next: a caller that sweeps again and again (the
+// terrain system, at every update and edit) owns one, so that calls stop allocating once the
+// sizes settle. It holds, per thread, 8 or 16 azimuths' planes of the region (2 MB at 256^2, 64
+// MB at 1024^2) and the lane kernel's accumulators, and the field's two padded copies. Not
+// thread-safe: one call at a time per workspace.
+class SweepWorkspace {
+ public:
+  SweepWorkspace();
+  ~SweepWorkspace();
+  SweepWorkspace(SweepWorkspace&&) noexcept;
+  SweepWorkspace& operator=(SweepWorkspace&&) noexcept;
+
+  struct Buffers;  // internal (horizon_sweep.cpp)
+  Buffers& buffers() { return *buffers_; }
+
+ private:
+  std::unique_ptr<Buffers> buffers_;
+};
+
 // Environment horizons (limit_to_point must be empty: a distance limit has no hull form) for
 // the texels of `region`, written into `out` (resized to the whole field if its size differs).
 // Lines that do not pass through `region` are skipped.
 void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out);
+// The same, reusing `workspace`'s buffers (same results, bit for bit).
+void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
+                    const TexelRect& region, HorizonGrid& out, SweepWorkspace& workspace);
 
 // Horizons of the texels of `region` along one azimuth `phi` (radians, any finite value), by
 // the same lines, hull and interpolation as sweep_horizons' azimuths (its kernel: eight lines per
@@ -74,6 +97,9 @@ void brute_force_horizons(const data::HeightField& field, const HorizonParams& p
 std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
                                    const TexelRect& edited, HorizonGrid& out,
                                    std::vector<unsigned char>& changed);
+std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
+                                   const TexelRect& edited, HorizonGrid& out,
+                                   std::vector<unsigned char>& changed, SweepWorkspace& workspace);
 
 // The same with the one-line-at-a-time kernel, whatever the build targets (sweep_horizons runs
 // eight lines per step on AVX2 lanes where available): for tests and benchmarks.

@@ -45,6 +45,7 @@
 #include "penumbra/systems/terrain_shadow/height_pyramid.h"
 #include "penumbra/systems/terrain_shadow/horizon.h"
 #include "penumbra/systems/terrain_shadow/horizon_march.h"
+#include "penumbra/systems/terrain_shadow/horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/light_horizon_march.h"
 #include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
 #include "penumbra/systems/terrain_shadow/transfer.h"
@@ -218,6 +219,7 @@ class TerrainShadowing {
   HeightPyramid pyramid_;
   bool pyramid_valid_ = false;
   HorizonGrid horizons_;
+  SweepWorkspace sweep_;        // the environment sweep's buffers (update, update_edit)
   HorizonGrid light_horizons_;  // scratch for add_spherical_light (kShWedges)
   RadialHorizonSweep radial_;   // scratch for add_spherical_light (kCapHorizon, kSweep)
   std::vector<glm::vec3> normals_;
