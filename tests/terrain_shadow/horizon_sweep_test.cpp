@@ -119,6 +119,40 @@ TEST(HorizonSweep, ThroughAnEditEqualsAFullSweepAndFlagsWhatChanged) {
   EXPECT_GT(flagged, 50u);
 }
 
+TEST(HorizonSweep, AReusedWorkspaceGivesWhatAFreshOneGives) {
+  // One workspace through calls whose shapes differ (fields of two sizes, a region, an edit,
+  // 40 azimuths: blocks of 8 and a last one of 8; the buffers keep what the last call left):
+  // every call equals the same call on a fresh workspace, bit for bit.
+  SweepWorkspace ws;
+  HorizonParams p;
+  p.azimuths = 40;
+  auto same = [&](const data::HeightField& f, const TexelRect& r) {
+    HorizonGrid reused, fresh;
+    sweep_horizons(f, p, r, reused, ws);
+    sweep_horizons(f, p, r, fresh);
+    EXPECT_EQ(reused.angles, fresh.angles) << f.width << "x" << f.height << " " << r.x0;
+    return reused;
+  };
+  data::HeightField a = mountains(50, 4);
+  data::HeightField b = mountains(61, 9);  // cropped to 37 x 23: x- and y-major rows differ
+  b.width = 37, b.height = 23;
+  b.heights.resize(37 * 23);
+  for (int y = 0; y < 23; ++y)
+    for (int x = 0; x < 37; ++x) b.at(x, y) = a.at(x, y) + 0.5f * y;
+  same(a, TexelRect::all(a));
+  same(b, TexelRect::all(b));
+  same(a, TexelRect{7, 3, 45, 29});
+  HorizonGrid edited = same(a, TexelRect::all(a)), expected = edited;
+  for (int y = 10; y < 14; ++y)
+    for (int x = 30; x < 33; ++x) a.at(x, y) -= 6.0f;
+  std::vector<unsigned char> c1, c2;
+  sweep_horizons_through(a, p, TexelRect{30, 10, 33, 14}, edited, c1, ws);
+  sweep_horizons_through(a, p, TexelRect{30, 10, 33, 14}, expected, c2);
+  EXPECT_EQ(edited.angles, expected.angles);
+  EXPECT_EQ(c1, c2);
+  same(a, TexelRect::all(a));  // after an edit, whose accumulators are not left zeroed
+}
+
 TEST(HorizonSweep, WallCastsItsExactAngle) {
   data::HeightField f;
   f.width = f.height = 32;

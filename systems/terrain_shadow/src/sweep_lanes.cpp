@@ -265,7 +265,7 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   const int u0 = frame.x_major ? r.x0 : r.y0, u1 = frame.x_major ? r.x1 : r.y1;
   const int v0 = frame.x_major ? r.y0 : r.x0, v1 = frame.x_major ? r.y1 : r.x1;
   const int row = (v1 - v0) + 2 * kAccPad;
-  // acc is left zeroed by the pass below; zeroed here only when its shape changed.
+  // The pass below leaves acc's texels zeroed; all of it is zeroed here when its shape changed.
   const std::size_t size = static_cast<std::size_t>(u1 - u0) * row;
   if (sc.acc.size() != size || sc.acc_row != row) sc.acc.assign(size, 0.0f);
   sc.acc_row = row;
@@ -280,7 +280,8 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
                  sc);
 
   // acc / weight, 8 x 8 blocks at a time (transposed in registers where u is x), zeroing acc
-  // behind (its padding included) for the next azimuth.
+  // behind for the next azimuth (its padding collects what lanes outside the region add, and is
+  // never read while the rows keep their shape).
   const int w = r.width(), nu = u1 - u0, nv = v1 - v0, bmax = sw.bmax;
   float* acc = sc.acc.data() + kAccPad;
   const float* t_of_u = sc.t_of_u.data();
@@ -321,9 +322,6 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
       plane[at(u, v)] = value(u, v);
       acc[static_cast<std::size_t>(u) * row + v] = 0.0f;
     }
-    float* pad = acc + static_cast<std::size_t>(u) * row;
-    std::fill(pad - kAccPad, pad, 0.0f);
-    std::fill(pad + nv, pad + nv + kAccPad, 0.0f);
   }
 }
 

@@ -35,7 +35,7 @@ struct LaneFields {
 
 struct LaneScratch {
   std::vector<float> acc;             // (major, minor + padding) layout
-  int acc_row = 0;                    // > 0: acc is all zeros, rows of acc_row floats
+  int acc_row = 0;                    // > 0: acc's texels are zeros, rows of acc_row floats
   std::vector<float> t_of_u;          // per major coordinate: the lines' offset t
   std::vector<float> hull_h, hull_j;  // [step * kGroupLines + lane]: the hull's links
 };
