@@ -84,11 +84,14 @@ void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* bl
   fill_nan(block, 0, lo);
   fill_nan(block, hi, g.width);
   if (lo >= hi) return;
-  // Hull slot d of lane l at [d * L + l]; a lane outside its columns writes above its stack.
+  // The hull as links through the steps, as sweep_lanes.cpp: step k's slot (k - lo) * L + l
+  // holds the point that was on top of lane l's hull when step k pushed its sample, so a push
+  // is one vector store and a pop reads the new third point from the old one's slot (found
+  // from its r: r = r_near + k, to a float's precision, far less than a step).
   const std::size_t slots = static_cast<std::size_t>(hi - lo + 1) * L;
   if (sc.hull_r.size() < slots) sc.hull_r.resize(slots), sc.hull_h.resize(slots);
-  float* hull_r = sc.hull_r.data();
-  float* hull_h = sc.hull_h.data();
+  float* link_r = sc.hull_r.data();
+  float* link_h = sc.hull_h.data();
 
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256d v0 = _mm256_set1_pd(g.v0), m_lo = _mm256_loadu_pd(g.m.data()),
@@ -101,9 +104,12 @@ void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* bl
   const __m256 zero = _mm256_setzero_ps();
   const __m256i izero = _mm256_setzero_si256(), one = _mm256_set1_epi32(1);
   const __m256i v_last = _mm256_set1_epi32(g.size_v - 1), stride_v = _mm256_set1_epi32(g.stride_v);
+  const __m256 r_first = _mm256_set1_ps(static_cast<float>(g.r_near + lo));
+  const __m256i last_slot = _mm256_set1_epi32(hi - lo);
 
   // Hull size per lane and its top three points in registers (a = top - 1, b = top - 2,
-  // c = top - 3), as sweep_lanes.cpp: a pop needs a and b only.
+  // c = top - 3), as sweep_lanes.cpp: a pop needs a and b only. Absent points: r = 0, read
+  // from a clamped slot and never used (`top` guards every use).
   __m256i top = izero;
   __m256 ah = zero, ar = zero, bh = zero, br = zero, ch = zero, cr = zero;
   for (int k = lo; k < hi; ++k) {
@@ -144,17 +150,16 @@ void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* bl
       const __m256 rhs = _mm256_mul_ps(_mm256_sub_ps(bh, h), _mm256_sub_ps(rf, ar));
       const __m256 pop = _mm256_and_ps(can, _mm256_cmp_ps(lhs, rhs, _CMP_LE_OQ));
       if (_mm256_testz_ps(pop, pop)) break;
+      const __m256i c_slot = _mm256_min_epi32(
+          _mm256_max_epi32(_mm256_cvtps_epi32(_mm256_sub_ps(cr, r_first)), izero), last_slot);
+      const __m256i i3 = _mm256_add_epi32(_mm256_slli_epi32(c_slot, 3), lane);
       top = _mm256_add_epi32(top, _mm256_castps_si256(pop));  // -1 where popping
       ah = _mm256_blendv_ps(ah, bh, pop);
       ar = _mm256_blendv_ps(ar, br, pop);
       bh = _mm256_blendv_ps(bh, ch, pop);
       br = _mm256_blendv_ps(br, cr, pop);
-      const __m256i i3 = _mm256_add_epi32(
-          _mm256_slli_epi32(_mm256_max_epi32(_mm256_sub_epi32(top, _mm256_set1_epi32(3)), izero),
-                            3),
-          lane);
-      ch = _mm256_mask_i32gather_ps(ch, hull_h, i3, pop, 4);
-      cr = _mm256_mask_i32gather_ps(cr, hull_r, i3, pop, 4);
+      ch = _mm256_mask_i32gather_ps(ch, link_h, i3, pop, 4);
+      cr = _mm256_mask_i32gather_ps(cr, link_r, i3, pop, 4);
     }
     const __m256 has = _mm256_castsi256_ps(_mm256_cmpgt_epi32(top, izero));
     const __m256 slope =
@@ -162,17 +167,10 @@ void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* bl
     _mm256_storeu_ps(block + static_cast<std::ptrdiff_t>(k) * L,
                      _mm256_blendv_ps(nan, _mm256_blendv_ps(minus_inf, slope, has), active));
 
-    // Push on the active lanes (AVX2 has no scatter).
-    alignas(32) float hv[L];
-    alignas(32) int slot[L];
-    _mm256_store_ps(hv, h);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(slot),
-                       _mm256_add_epi32(_mm256_slli_epi32(top, 3), lane));
-    const float r_now = static_cast<float>(r);
-    for (int l = 0; l < L; ++l) {
-      hull_h[slot[l]] = hv[l];
-      hull_r[slot[l]] = r_now;
-    }
+    // Push on the active lanes: slot k - lo keeps the old top (an inactive lane stores too, and
+    // never reads the slot back).
+    _mm256_storeu_ps(link_h + static_cast<std::ptrdiff_t>(k - lo) * L, ah);
+    _mm256_storeu_ps(link_r + static_cast<std::ptrdiff_t>(k - lo) * L, ar);
     top = _mm256_sub_epi32(top, _mm256_castps_si256(active));  // +1 where active
     ch = _mm256_blendv_ps(ch, bh, active);
     cr = _mm256_blendv_ps(cr, br, active);
