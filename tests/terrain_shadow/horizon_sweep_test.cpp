@@ -6,8 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 #include <stdexcept>
+
+#include <tbb/task_arena.h>
 
 #include "common/stability.h"
 #include "penumbra/assets/procedural.h"
@@ -226,6 +229,25 @@ TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
         else
           ASSERT_EQ(part.texel(x, y)[k], 0.0f);
       }
+}
+
+TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
+  // Above 256^2 texels, with 32 azimuths on 2 threads, tasks take 16 azimuths and write each
+  // texel's record lines whole with streaming stores; regions of a quarter of that take 8 and
+  // write them in halves. Same horizons, bit for bit.
+  const auto f = mountains(264, 21);
+  HorizonParams p;
+  p.azimuths = 32;
+  HorizonGrid full, quarters;
+  tbb::task_arena two(2);
+  two.execute([&] {
+    sweep_horizons(f, p, TexelRect::all(f), full);
+    for (const TexelRect& r : {TexelRect{0, 0, 132, 132}, TexelRect{132, 0, 264, 132},
+                               TexelRect{0, 132, 132, 264}, TexelRect{132, 132, 264, 264}})
+      sweep_horizons(f, p, r, quarters);
+  });
+  EXPECT_EQ(full.angles, quarters.angles);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(full.angles.data()) % 64, 0u);
 }
 
 TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {

@@ -201,8 +201,8 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
         if (_mm256_testz_ps(any, any)) break;
         for (int g = 0; g < G; ++g) {
           // The slot c was pushed at holds the point below it.
-          const __m256i slot = _mm256_max_epi32(
-              _mm256_cvttps_epi32(_mm256_sub_ps(vj_start, cj[g])), _mm256_setzero_si256());
+          const __m256i slot = _mm256_max_epi32(_mm256_cvttps_epi32(_mm256_sub_ps(vj_start, cj[g])),
+                                                _mm256_setzero_si256());
           const __m256i i3 = _mm256_add_epi32(_mm256_slli_epi32(slot, kGroupShift), lane[g]);
           top[g] = _mm256_add_epi32(top[g], _mm256_castps_si256(pop[g]));  // -1 where popping
           ah[g] = _mm256_blendv_ps(ah[g], bh[g], pop[g]);
@@ -329,8 +329,27 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
                    HorizonGrid& out) {
   std::size_t i = 0;
   const bool blocks = (k1 - k0) % 8 == 0;
+  // 16 azimuths starting on a cache line: each texel's run is a whole line, written with
+  // streaming stores (no read for ownership; records this large do not stay in cache anyway).
+  const bool lines = k1 - k0 == 16 && k0 % 16 == 0 && out.azimuths % 16 == 0 &&
+                     reinterpret_cast<std::uintptr_t>(out.angles.data()) % 64 == 0;
   for (int y = r.y0; y < r.y1; ++y) {
     int x = r.x0;
+    if (lines)
+      for (; x + 8 <= r.x1; x += 8, i += 8) {
+        __m256 m[8], n[8];
+        for (int k = 0; k < 8; ++k) {
+          m[k] = _mm256_loadu_ps(planes + k * count + i);
+          n[k] = _mm256_loadu_ps(planes + (8 + k) * count + i);
+        }
+        transpose8(m);
+        transpose8(n);
+        for (int l = 0; l < 8; ++l) {
+          float* dst = out.texel(x + l, y) + k0;
+          _mm256_stream_ps(dst, m[l]);
+          _mm256_stream_ps(dst + 8, n[l]);
+        }
+      }
     if (blocks)
       for (; x + 8 <= r.x1; x += 8, i += 8)
         for (int kb = 0; kb < k1 - k0; kb += 8) {
@@ -342,6 +361,7 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
     for (; x < r.x1; ++x, ++i)
       for (int k = k0; k < k1; ++k) out.texel(x, y)[k] = planes[(k - k0) * count + i];
   }
+  if (lines) _mm_sfence();  // the streaming stores visible before the task ends
 }
 
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <cstddef>
+#include <new>
 #include <optional>
 #include <string>
 #include <vector>
@@ -46,10 +47,28 @@ struct HorizonParams {
   std::optional<glm::vec2> limit_to_point;
 };
 
+// Storage on 64-byte (cache line) boundaries: the sweep writes whole lines of records with
+// streaming stores (sweep_lanes.cpp, texel_records).
+template <class T>
+struct CacheLineAllocator {
+  using value_type = T;
+  CacheLineAllocator() = default;
+  template <class U>
+  CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    return static_cast<T*>(::operator new (n * sizeof(T), std::align_val_t{64}));
+  }
+  void deallocate(T* p, std::size_t) noexcept { ::operator delete (p, std::align_val_t{64}); }
+  template <class U>
+  bool operator==(const CacheLineAllocator<U>&) const noexcept {
+    return true;
+  }
+};
+
 // n_phi angles per texel for a whole field; a method given a region writes only that region.
 struct HorizonGrid {
   int width = 0, height = 0, azimuths = 0;
-  std::vector<float> angles;  // ((y * width) + x) * azimuths + k
+  std::vector<float, CacheLineAllocator<float>> angles;  // ((y * width) + x) * azimuths + k
 
   void resize(int w, int h, int n_phi) {
     width = w;
