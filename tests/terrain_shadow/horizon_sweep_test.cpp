@@ -232,7 +232,7 @@ TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
 }
 
 TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
-  // Above 256^2 texels, with 32 azimuths on 2 threads, tasks take 16 azimuths and write each
+  // From 256^2 texels, with 32 azimuths on 2 threads, tasks take 16 azimuths and write each
   // texel's record lines whole with streaming stores; regions of a quarter of that take 8 and
   // write them in halves. Same horizons, bit for bit.
   const auto f = mountains(264, 21);

@@ -203,12 +203,12 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   // per azimuth, which would touch every record's cache line once per azimuth). A task's
   // buffers are its thread's: the body runs no nested parallel work, so no other task of this
   // loop can start on the thread before it ends. Blocks of 16 azimuths write whole cache lines
-  // of the records (8: half lines, each read for ownership twice); their planes, 4 MB at 256^2,
-  // spill the 2 MB L2 where 8 fit, so 16 only above 256^2 texels (1024^2, n_phi 64: horizons
-  // 9% faster; 256^2: slower, docs/terrain_shadow.md), and while there are still blocks for every
-  // thread.
-  const bool wide =
-      region.count() > 256 * 256 && params.azimuths / 16 >= tbb::this_task_arena::max_concurrency();
+  // of the records, with streaming stores (texel_records); 8 write half lines, each read for
+  // ownership twice. 16 from 256^2 texels (one thread, horizons: 256^2 n_phi 32 9.9 -> 9.2 ms,
+  // 1024^2 n_phi 64 685 -> 557 ms; docs/terrain_shadow.md), while there are blocks for every
+  // thread; smaller regions (not measured) keep 8 and their records in cache.
+  const bool wide = region.count() >= 256 * 256 &&
+                    params.azimuths / 16 >= tbb::this_task_arena::max_concurrency();
   const int block_size = wide ? 16 : 8;
   const int blocks = (params.azimuths + block_size - 1) / block_size;
   tbb::parallel_for(0, blocks, [&](int block) {
