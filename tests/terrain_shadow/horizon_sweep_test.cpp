@@ -9,11 +9,13 @@
 #include <cstdint>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 
 #include <tbb/task_arena.h>
 
 #include "common/stability.h"
 #include "penumbra/assets/procedural.h"
+#include "sweep_lanes.h"  // internal: the kernels' two compiled copies
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -248,6 +250,33 @@ TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
   });
   EXPECT_EQ(full.angles, quarters.angles);
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(full.angles.data()) % 64, 0u);
+}
+
+TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
+  // The two compiled copies of the lane kernels (sweep_lanes.h): a whole sweep, a region, one
+  // direction and an edit, bit for bit.
+  if (detail::sweep_isa() != detail::SweepIsa::kAvx512)
+    GTEST_SKIP() << "this CPU has no AVX-512: only the AVX2 kernels can run";
+  data::HeightField f = mountains(70, 13);
+  HorizonParams p;
+  p.azimuths = 24;
+  auto run = [&](detail::SweepIsa isa) {
+    detail::force_sweep_isa(isa);
+    HorizonGrid all, region;
+    std::vector<float> one;
+    sweep_horizons(f, p, TexelRect::all(f), all);
+    sweep_horizons(f, p, TexelRect{9, 4, 61, 40}, region);
+    sweep_direction_horizons(f, p, 0.7, TexelRect::all(f), one);
+    data::HeightField g = f;
+    for (int y = 30; y < 36; ++y)
+      for (int x = 40; x < 44; ++x) g.at(x, y) += 7.0f;
+    HorizonGrid edited = all;
+    std::vector<unsigned char> changed;
+    sweep_horizons_through(g, p, TexelRect{40, 30, 44, 36}, edited, changed);
+    detail::force_sweep_isa(std::nullopt);
+    return std::make_tuple(all.angles, region.angles, one, edited.angles, changed);
+  };
+  EXPECT_TRUE(run(detail::SweepIsa::kAvx2) == run(detail::SweepIsa::kAvx512));
 }
 
 TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {

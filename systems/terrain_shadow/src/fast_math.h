@@ -40,16 +40,18 @@ inline float fast_atan(float x) {
 }
 
 #ifdef __AVX2__
+// The 8-lane helpers are always inlined: sweep_lanes_avx512.cpp compiles them for AVX-512 into
+// its kernels, and no out-of-line copy of that may be the one the linker keeps.
 // c[0] x^(K-1) + ... + c[K-1] by Horner's rule on 8 lanes (the scalar polynomials' order).
 template <std::size_t K>
-inline __m256 horner8(__m256 x, const float (&c)[K]) {
+[[gnu::always_inline]] inline __m256 horner8(__m256 x, const float (&c)[K]) {
   __m256 p = _mm256_set1_ps(c[0]);
   for (std::size_t i = 1; i < K; ++i) p = _mm256_fmadd_ps(p, x, _mm256_set1_ps(c[i]));
   return p;
 }
 
 // fast_atan's polynomial on 8 lanes: z in [0, 1] -> atan(z).
-inline __m256 fast_atan_unit8(__m256 z) {
+[[gnu::always_inline]] inline __m256 fast_atan_unit8(__m256 z) {
   static constexpr float c[] = {-4.051978102e-03f, 2.185325950e-02f,  -5.589779900e-02f,
                                 9.641089470e-02f,  -1.390817735e-01f, 1.994647099e-01f,
                                 -3.332985206e-01f, 9.999993333e-01f};
@@ -58,13 +60,13 @@ inline __m256 fast_atan_unit8(__m256 z) {
 
 // sin and cos on [-pi/2, pi/2] on 8 lanes (fast_sin's polynomial; cos by Taylor to x^12):
 // errors under 6e-8.
-inline __m256 fast_sin8(__m256 x) {
+[[gnu::always_inline]] inline __m256 fast_sin8(__m256 x) {
   static constexpr float c[] = {-2.50521084e-8f, 2.75573192e-6f, -1.98412698e-4f, 8.33333333e-3f,
                                 -1.66666667e-1f};
   const __m256 x2 = _mm256_mul_ps(x, x);
   return _mm256_fmadd_ps(_mm256_mul_ps(x, x2), horner8(x2, c), x);
 }
-inline __m256 fast_cos8(__m256 x) {
+[[gnu::always_inline]] inline __m256 fast_cos8(__m256 x) {
   static constexpr float c[] = {2.08767570e-9f,
                                 -2.75573192e-7f,
                                 2.48015873e-5f,
@@ -76,7 +78,7 @@ inline __m256 fast_cos8(__m256 x) {
 }
 
 // atan(num / den) for den > 0 on 8 lanes with one division (min / max of |num| and den).
-inline __m256 fast_atan_ratio8(__m256 num, __m256 den) {
+[[gnu::always_inline]] inline __m256 fast_atan_ratio8(__m256 num, __m256 den) {
   const __m256 sign = _mm256_set1_ps(-0.0f);
   const __m256 a = _mm256_andnot_ps(sign, num);
   const __m256 inv = _mm256_cmp_ps(a, den, _CMP_GT_OQ);
@@ -88,7 +90,7 @@ inline __m256 fast_atan_ratio8(__m256 num, __m256 den) {
 
 #ifdef __AVX2__
 // fast_atan on 8 lanes (the same operations, so the same results). -inf gives -pi/2.
-inline __m256 fast_atan8(__m256 x) {
+[[gnu::always_inline]] inline __m256 fast_atan8(__m256 x) {
   const __m256 sign = _mm256_set1_ps(-0.0f), one = _mm256_set1_ps(1.0f);
   const __m256 a = _mm256_andnot_ps(sign, x);
   const __m256 inv = _mm256_cmp_ps(a, one, _CMP_GT_OQ);

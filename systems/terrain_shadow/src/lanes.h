@@ -24,8 +24,8 @@ inline void store(float* p, Lanes v) {
 }
 
 #ifdef __AVX2__
-// m[i][j] <- m[j][i].
-inline void transpose8(__m256 m[8]) {
+// m[i][j] <- m[j][i]. Always inlined (fast_math.h says why).
+[[gnu::always_inline]] inline void transpose8(__m256 m[8]) {
   __m256 t[8], s[8];
   for (int i = 0; i < 8; i += 2) {
     t[i] = _mm256_unpacklo_ps(m[i], m[i + 1]);

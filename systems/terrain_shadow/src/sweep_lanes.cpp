@@ -1,4 +1,7 @@
 // The line sweep, eight lines per AVX2 step (sweep_lanes.h). Timonen and Westerholm 2010.
+// Compiled twice: here for the x86-64-v3 baseline, and by sweep_lanes_avx512.cpp for AVX-512
+// (PENUMBRA_SWEEP_LANES_AVX512: the kernels go into namespace avx512 instead of avx2, the
+// shared parts and the run-time choice between them are compiled here only).
 #include "sweep_lanes.h"
 
 #ifdef __AVX2__
@@ -26,6 +29,10 @@ static_assert(kGroupLines == 1 << kGroupShift);
 
 }  // namespace
 
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+#define PENUMBRA_SWEEP_KERNELS avx512
+#else
+#define PENUMBRA_SWEEP_KERNELS avx2
 void LaneFields::assign(const data::HeightField& f) {
   stride_x = f.height + 2 * kPad + 1;
   stride_y = f.width + 2 * kPad + 1;
@@ -38,6 +45,47 @@ void LaneFields::assign(const data::HeightField& f) {
     }
 }
 
+void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
+                   HorizonGrid& out) {
+  std::size_t i = 0;
+  const bool blocks = (k1 - k0) % 8 == 0;
+  // 16 azimuths starting on a cache line: each texel's run is a whole line, written with
+  // streaming stores (no read for ownership; records this large do not stay in cache anyway).
+  const bool lines = k1 - k0 == 16 && k0 % 16 == 0 && out.azimuths % 16 == 0 &&
+                     reinterpret_cast<std::uintptr_t>(out.angles.data()) % 64 == 0;
+  for (int y = r.y0; y < r.y1; ++y) {
+    int x = r.x0;
+    if (lines)
+      for (; x + 8 <= r.x1; x += 8, i += 8) {
+        __m256 m[8], n[8];
+        for (int k = 0; k < 8; ++k) {
+          m[k] = _mm256_loadu_ps(planes + k * count + i);
+          n[k] = _mm256_loadu_ps(planes + (8 + k) * count + i);
+        }
+        transpose8(m);
+        transpose8(n);
+        for (int l = 0; l < 8; ++l) {
+          float* dst = out.texel(x + l, y) + k0;
+          _mm256_stream_ps(dst, m[l]);
+          _mm256_stream_ps(dst + 8, n[l]);
+        }
+      }
+    if (blocks)
+      for (; x + 8 <= r.x1; x += 8, i += 8)
+        for (int kb = 0; kb < k1 - k0; kb += 8) {
+          __m256 m[8];
+          for (int k = 0; k < 8; ++k) m[k] = _mm256_loadu_ps(planes + (kb + k) * count + i);
+          transpose8(m);
+          for (int l = 0; l < 8; ++l) _mm256_storeu_ps(out.texel(x + l, y) + k0 + kb, m[l]);
+        }
+    for (; x < r.x1; ++x, ++i)
+      for (int k = k0; k < k1; ++k) out.texel(x, y)[k] = planes[(k - k0) * count + i];
+  }
+  if (lines) _mm_sfence();  // the streaming stores visible before the task ends
+}
+#endif
+
+namespace PENUMBRA_SWEEP_KERNELS {
 namespace {
 
 // The weight add() gives texel v (minor) of a column whose lines lie t above their texels: t
@@ -251,12 +299,6 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
 
 }  // namespace
 
-void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
-                         const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
-                         float* plane) {
-  sweep_direction_lanes(f, fields, p, r, azimuth_angle(k, p.azimuths), sc, plane);
-}
-
 void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
                            const HorizonParams& p, const TexelRect& r, double phi, LaneScratch& sc,
                            float* plane) {
@@ -325,45 +367,6 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   }
 }
 
-void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
-                   HorizonGrid& out) {
-  std::size_t i = 0;
-  const bool blocks = (k1 - k0) % 8 == 0;
-  // 16 azimuths starting on a cache line: each texel's run is a whole line, written with
-  // streaming stores (no read for ownership; records this large do not stay in cache anyway).
-  const bool lines = k1 - k0 == 16 && k0 % 16 == 0 && out.azimuths % 16 == 0 &&
-                     reinterpret_cast<std::uintptr_t>(out.angles.data()) % 64 == 0;
-  for (int y = r.y0; y < r.y1; ++y) {
-    int x = r.x0;
-    if (lines)
-      for (; x + 8 <= r.x1; x += 8, i += 8) {
-        __m256 m[8], n[8];
-        for (int k = 0; k < 8; ++k) {
-          m[k] = _mm256_loadu_ps(planes + k * count + i);
-          n[k] = _mm256_loadu_ps(planes + (8 + k) * count + i);
-        }
-        transpose8(m);
-        transpose8(n);
-        for (int l = 0; l < 8; ++l) {
-          float* dst = out.texel(x + l, y) + k0;
-          _mm256_stream_ps(dst, m[l]);
-          _mm256_stream_ps(dst + 8, n[l]);
-        }
-      }
-    if (blocks)
-      for (; x + 8 <= r.x1; x += 8, i += 8)
-        for (int kb = 0; kb < k1 - k0; kb += 8) {
-          __m256 m[8];
-          for (int k = 0; k < 8; ++k) m[k] = _mm256_loadu_ps(planes + (kb + k) * count + i);
-          transpose8(m);
-          for (int l = 0; l < 8; ++l) _mm256_storeu_ps(out.texel(x + l, y) + k0 + kb, m[l]);
-        }
-    for (; x < r.x1; ++x, ++i)
-      for (int k = k0; k < k1; ++k) out.texel(x, y)[k] = planes[(k - k0) * count + i];
-  }
-  if (lines) _mm_sfence();  // the streaming stores visible before the task ends
-}
-
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed) {
@@ -426,6 +429,64 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
   }
   return pairs;
 }
+
+}  // namespace PENUMBRA_SWEEP_KERNELS
+
+#ifndef PENUMBRA_SWEEP_LANES_AVX512
+namespace avx512 {  // sweep_lanes_avx512.cpp
+void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
+                           const HorizonParams& p, const TexelRect& r, double phi, LaneScratch& sc,
+                           float* plane);
+std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
+                                        const HorizonParams& p, const TexelRect& edited, int k,
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed);
+}  // namespace avx512
+
+namespace {
+
+std::optional<SweepIsa>& forced_isa() {
+  static std::optional<SweepIsa> forced;
+  return forced;
+}
+
+}  // namespace
+
+SweepIsa sweep_isa() {
+  // x86-64-v4's AVX-512 subsets, those the AVX-512 copy is compiled for.
+  static const bool avx512 =
+      __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&
+      __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq");
+  if (forced_isa() && (*forced_isa() == SweepIsa::kAvx2 || avx512)) return *forced_isa();
+  return avx512 ? SweepIsa::kAvx512 : SweepIsa::kAvx2;
+}
+
+void force_sweep_isa(std::optional<SweepIsa> isa) {
+  forced_isa() = isa;
+}
+
+void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
+                           const HorizonParams& p, const TexelRect& r, double phi, LaneScratch& sc,
+                           float* plane) {
+  if (sweep_isa() == SweepIsa::kAvx512)
+    avx512::sweep_direction_lanes(f, fields, p, r, phi, sc, plane);
+  else
+    avx2::sweep_direction_lanes(f, fields, p, r, phi, sc, plane);
+}
+
+void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
+                         const HorizonParams& p, const TexelRect& r, int k, LaneScratch& sc,
+                         float* plane) {
+  sweep_direction_lanes(f, fields, p, r, azimuth_angle(k, p.azimuths), sc, plane);
+}
+
+std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
+                                        const HorizonParams& p, const TexelRect& edited, int k,
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed) {
+  return sweep_isa() == SweepIsa::kAvx512
+             ? avx512::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed)
+             : avx2::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed);
+}
+#endif
 
 }  // namespace penumbra::terrain_shadow::detail
 

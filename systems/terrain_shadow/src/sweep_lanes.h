@@ -13,6 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "penumbra/systems/terrain_shadow/horizon.h"
@@ -39,6 +40,15 @@ struct LaneScratch {
   std::vector<float> t_of_u;          // per major coordinate: the lines' offset t
   std::vector<float> hull_h, hull_j;  // [step * kGroupLines + lane]: the hull's links
 };
+
+// Which copy of the kernels below runs: the AVX-512 one (the same intrinsics and floats,
+// compiled for x86-64-v4: its 32 vector registers hold a group's hull state, which spills on
+// AVX2's 16; horizons 15% faster) where the CPU has it. force_sweep_isa (tests, benchmarks)
+// picks one; kAvx512 is ignored without the CPU's support, nullopt restores the choice. Not to
+// be called while a sweep runs.
+enum class SweepIsa { kAvx2, kAvx512 };
+SweepIsa sweep_isa();
+void force_sweep_isa(std::optional<SweepIsa> isa);
 
 // Azimuth k of the region into `plane` (region-sized, row-major in x, y): the contract of the
 // scalar sweep_azimuth in horizon_sweep.cpp.

@@ -1,0 +1,29 @@
+// The line sweep's lane kernels compiled again for AVX-512 (x86-64-v4 subsets): the same source
+// and floats, in namespace detail::avx512; sweep_lanes.cpp chooses between the copies at run
+// time (sweep_isa()). The target pragma covers the intrinsics and the always-inlined 8-lane
+// helpers (so that blends and compares become mask-register operations) and the kernels; the
+// headers with out-of-line inline functions (std::, sweep_geometry.h) come first, compiled for
+// the baseline, so that every copy the linker may keep runs on any x86-64-v3 CPU.
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "sweep_geometry.h"
+#include "sweep_lanes.h"
+
+#ifdef __AVX2__
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq")
+#include <immintrin.h>
+
+#include "fast_math.h"
+#include "lanes.h"
+
+#define PENUMBRA_SWEEP_LANES_AVX512
+#include "sweep_lanes.cpp"  // one source, two targets
+#pragma GCC pop_options
+#endif
