@@ -41,9 +41,10 @@ void BM_HorizonsSweep(benchmark::State& state) {
   const auto field = scene_field(kSize);
   const ts::HorizonParams p = env_horizon_params(32);
   ts::HorizonGrid grid;
-  ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid);
+  ts::SweepWorkspace workspace;  // as the system keeps one: buffers reused from call to call
+  ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid, workspace);
   for (auto _ : state) {
-    ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid);
+    ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid, workspace);
     benchmark::DoNotOptimize(grid.angles.data());
   }
   const double pairs = static_cast<double>(kSize) * kSize * p.azimuths;
