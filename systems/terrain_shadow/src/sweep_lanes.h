@@ -7,7 +7,9 @@
 // steps (pops without branches per line; two vectors whose dependency chains overlap), and
 // their receivers scatter into consecutive texels. Same samples and same arithmetic as the
 // scalar sweep, so results agree with brute_force_horizons(kSweepLines) to float precision
-// (tested). Why 16 lines and three hull points in registers: docs/terrain_shadow.md, "Speed
+// (tested). The hull is kept as links through the group's steps (a push is one vector store),
+// and each step's receivers go onto their texels at once (no per-group record arrays). Why 16
+// lines, three hull points in registers and an AVX-512 copy: docs/terrain_shadow.md, "Speed
 // toward the floors".
 #pragma once
 
@@ -42,8 +44,8 @@ struct LaneScratch {
 };
 
 // Which copy of the kernels below runs: the AVX-512 one (the same intrinsics and floats,
-// compiled for x86-64-v4: its 32 vector registers hold a group's hull state, which spills on
-// AVX2's 16; horizons 15% faster) where the CPU has it. force_sweep_isa (tests, benchmarks)
+// compiled for x86-64-v4 subsets, where compares and blends go through mask registers:
+// horizons about 8% faster) where the CPU has it. force_sweep_isa (tests, benchmarks)
 // picks one; kAvx512 is ignored without the CPU's support, nullopt restores the choice. Not to
 // be called while a sweep runs.
 enum class SweepIsa { kAvx2, kAvx512 };

@@ -11,8 +11,9 @@
 // column (less than a cell apart; exact for azimuths along the axes and diagonals, where a line
 // passes through every texel).
 //
-// Cost: about width * height samples per azimuth, each a few compares; on AVX2 eight lines run
-// per step as masked vector operations (src/sweep_lanes.h). Memory: per task, 8 or 16 azimuths'
+// Cost: about width * height samples per azimuth, each a few compares; on AVX2 sixteen lines
+// run per step as masked vector operations, in a copy compiled for AVX-512 where the CPU has it
+// (src/sweep_lanes.h). Memory: per task, 8 or 16 azimuths'
 // planes of the region and one line group's hull. Threading: pure function of its inputs; calls for
 // disjoint regions or different outputs may run concurrently (each with its own SweepWorkspace).
 #pragma once
