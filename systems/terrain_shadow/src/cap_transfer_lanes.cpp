@@ -14,13 +14,10 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-using detail::CapFrame;
 using detail::kHalfPi;
-using detail::kLanes;
 using detail::kMaxStrips;
 using detail::kPi;
 using detail::nodes;
-using detail::padded;
 using detail::strip_nodes;
 using detail::StripNodes;
 #ifdef __AVX2__
