@@ -10,6 +10,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include <tbb/task_arena.h>
 
@@ -156,6 +157,13 @@ TEST(HorizonSweep, AReusedWorkspaceGivesWhatAFreshOneGives) {
   EXPECT_EQ(edited.angles, expected.angles);
   EXPECT_EQ(c1, c2);
   same(a, TexelRect::all(a));  // after an edit, whose accumulators are not left zeroed
+  SweepWorkspace copied = ws, moved = std::move(ws);  // a copy starts empty; a moved-from one
+  HorizonGrid c, m, w;                                // makes new buffers
+  sweep_horizons(b, p, TexelRect::all(b), c, copied);
+  sweep_horizons(b, p, TexelRect::all(b), m, moved);
+  sweep_horizons(b, p, TexelRect::all(b), w, ws);  // NOLINT(bugprone-use-after-move)
+  EXPECT_EQ(c.angles, m.angles);
+  EXPECT_EQ(c.angles, w.angles);
 }
 
 TEST(HorizonSweep, WallCastsItsExactAngle) {

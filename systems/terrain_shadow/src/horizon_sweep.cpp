@@ -179,6 +179,11 @@ SweepWorkspace::SweepWorkspace() : buffers_(std::make_unique<Buffers>()) {}
 SweepWorkspace::~SweepWorkspace() = default;
 SweepWorkspace::SweepWorkspace(SweepWorkspace&&) noexcept = default;
 SweepWorkspace& SweepWorkspace::operator=(SweepWorkspace&&) noexcept = default;
+SweepWorkspace::SweepWorkspace(const SweepWorkspace&) : buffers_(std::make_unique<Buffers>()) {}
+SweepWorkspace::Buffers& SweepWorkspace::buffers() {
+  if (!buffers_) buffers_ = std::make_unique<Buffers>();
+  return *buffers_;
+}
 
 namespace {
 

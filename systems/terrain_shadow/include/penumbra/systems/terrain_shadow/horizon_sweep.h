@@ -39,9 +39,12 @@ class SweepWorkspace {
   ~SweepWorkspace();
   SweepWorkspace(SweepWorkspace&&) noexcept;
   SweepWorkspace& operator=(SweepWorkspace&&) noexcept;
+  // The buffers are a cache: a copy starts empty, and assigning keeps this one's.
+  SweepWorkspace(const SweepWorkspace&);
+  SweepWorkspace& operator=(const SweepWorkspace&) { return *this; }
 
-  struct Buffers;  // internal (horizon_sweep.cpp)
-  Buffers& buffers() { return *buffers_; }
+  struct Buffers;      // internal (horizon_sweep.cpp)
+  Buffers& buffers();  // made anew after a move
 
  private:
   std::unique_ptr<Buffers> buffers_;
