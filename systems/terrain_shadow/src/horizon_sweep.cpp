@@ -187,7 +187,7 @@ SweepWorkspace::Buffers& SweepWorkspace::buffers() {
 
 namespace {
 
-// kLanes: eight lines per AVX2 step (sweep_lanes.h); kScalar: one line at a time.
+// kLanes: sixteen lines per step on AVX2 lanes (sweep_lanes.h); kScalar: one line at a time.
 enum class Kernel { kScalar, kLanes };
 
 void sweep(const data::HeightField& field, const HorizonParams& params, const TexelRect& region,
@@ -209,9 +209,9 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   // buffers are its thread's: the body runs no nested parallel work, so no other task of this
   // loop can start on the thread before it ends. Blocks of 16 azimuths write whole cache lines
   // of the records, with streaming stores (texel_records); 8 write half lines, each read for
-  // ownership twice. 16 from 256^2 texels (one thread, horizons: 256^2 n_phi 32 9.9 -> 9.2 ms,
-  // 1024^2 n_phi 64 685 -> 557 ms; docs/terrain_shadow.md), while there are blocks for every
-  // thread; smaller regions (not measured) keep 8 and their records in cache.
+  // ownership twice. 16 from 256^2 texels (measured there and at 1024^2: docs/terrain_shadow.md,
+  // "Horizons, fourth round"), while there are blocks for every thread; smaller regions (not
+  // measured) keep 8 and their records in cache.
   const bool wide = region.count() >= 256 * 256 &&
                     params.azimuths / 16 >= tbb::this_task_arena::max_concurrency();
   const int block_size = wide ? 16 : 8;
@@ -266,7 +266,7 @@ void sweep_direction_horizons(const data::HeightField& field, const HorizonParam
   out.assign(region.count(), 0.0f);
   if (region.empty()) return;
 #ifdef __AVX2__
-  const detail::LaneFields fields(field);  // eight lines per step, as sweep_horizons
+  const detail::LaneFields fields(field);  // the lane kernel, as sweep_horizons
   detail::LaneScratch lanes;
   detail::sweep_direction_lanes(field, fields, params, region, phi, lanes, out.data());
 #else

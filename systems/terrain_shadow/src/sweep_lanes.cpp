@@ -1,4 +1,4 @@
-// The line sweep, eight lines per AVX2 step (sweep_lanes.h). Timonen and Westerholm 2010.
+// The line sweep, sixteen lines per step on AVX2 lanes (sweep_lanes.h). [Timonen10] sec. 4.
 // Compiled twice: here for the x86-64-v3 baseline, and by sweep_lanes_avx512.cpp for AVX-512
 // (PENUMBRA_SWEEP_LANES_AVX512: the kernels go into namespace avx512 instead of avx2, the
 // shared parts and the run-time choice between them are compiled here only).

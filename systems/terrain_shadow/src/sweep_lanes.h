@@ -44,10 +44,10 @@ struct LaneScratch {
 };
 
 // Which copy of the kernels below runs: the AVX-512 one (the same intrinsics and floats,
-// compiled for x86-64-v4 subsets, where compares and blends go through mask registers:
-// horizons about 8% faster) where the CPU has it. force_sweep_isa (tests, benchmarks)
-// picks one; kAvx512 is ignored without the CPU's support, nullopt restores the choice. Not to
-// be called while a sweep runs.
+// compiled for x86-64-v4 subsets, where compares and blends go through mask registers; the
+// gain is measured in docs/terrain_shadow.md) where the CPU has it. force_sweep_isa (tests,
+// benchmarks) picks one; kAvx512 is ignored without the CPU's support, nullopt restores the choice.
+// Not to be called while a sweep runs.
 enum class SweepIsa { kAvx2, kAvx512 };
 SweepIsa sweep_isa();
 void force_sweep_isa(std::optional<SweepIsa> isa);

@@ -60,7 +60,7 @@ void sweep_horizons(const data::HeightField& field, const HorizonParams& params,
                     const TexelRect& region, HorizonGrid& out, SweepWorkspace& workspace);
 
 // Horizons of the texels of `region` along one azimuth `phi` (radians, any finite value), by
-// the same lines, hull and interpolation as sweep_horizons' azimuths (its kernel: eight lines per
+// the same lines, hull and interpolation as sweep_horizons' azimuths (its kernel: sixteen lines per
 // step on AVX2): a directional light's shadow. `out` gets region.count() angles, row-major
 // (x fastest). O(field) for one direction. Throws as sweep_horizons, and for a non-finite phi.
 void sweep_direction_horizons(const data::HeightField& field, const HorizonParams& params,
@@ -106,7 +106,7 @@ std::size_t sweep_horizons_through(const data::HeightField& field, const Horizon
                                    std::vector<unsigned char>& changed, SweepWorkspace& workspace);
 
 // The same with the one-line-at-a-time kernel, whatever the build targets (sweep_horizons runs
-// eight lines per step on AVX2 lanes where available): for tests and benchmarks.
+// sixteen lines per step on AVX2 lanes where available): for tests and benchmarks.
 void sweep_horizons_scalar(const data::HeightField& field, const HorizonParams& params,
                            const TexelRect& region, HorizonGrid& out);
 
