@@ -162,7 +162,7 @@ TerrainShadowConfig config(HorizonMethod m, int azimuths, int level_step = 4,
 
 // Brute-force horizons (kTexelRays) at the receiver texels only, then the system's own
 // visibility and transfer (wedge table, eq. 4.19; transfer, eq. 4.21), exactly as
-// TerrainShadowing::compute_transfer_rows does for every texel with kTruncatedProduct:
+// TerrainShadowing::compute_transfer does for every texel with kTruncatedProduct:
 // TerrainShadowing with kBruteForce at these texels for 1/64 of its cost (a full 256^2 brute-force
 // update takes 1.5-3 s).
 std::vector<glm::vec3> brute_force_environment(const data::HeightField& f, const ReceiverSet& rs,

@@ -1,6 +1,9 @@
 #include "penumbra/systems/terrain_shadow/horizon.h"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -19,10 +22,21 @@ void validate_horizon_input(const data::HeightField& field, const HorizonParams&
   if (!(field.cell_size > 0) || !std::isfinite(field.cell_size))
     fail("cell size " + std::to_string(field.cell_size) + " must be finite and > 0");
   validate_horizon_params(name, params, field.width, field.height, region);
-  for (std::size_t i = 0; i < field.heights.size(); ++i)
-    if (!std::isfinite(field.heights[i]))
-      fail("height at sample (" + std::to_string(i % field.width) + ", " +
-           std::to_string(i / field.width) + ") is not finite");
+  // Blocks without a branch per sample (this runs at every update and edit); the first
+  // non-finite sample is looked for only in a block that has one.
+  const std::size_t n = field.heights.size();
+  constexpr std::size_t kBlock = 1024;
+  for (std::size_t b = 0; b < n; b += kBlock) {
+    const std::size_t e = std::min(n, b + kBlock);
+    unsigned bad = 0;  // an exponent of all ones: infinite or NaN
+    for (std::size_t i = b; i < e; ++i)
+      bad |= (std::bit_cast<std::uint32_t>(field.heights[i]) & 0x7f800000u) == 0x7f800000u;
+    if (bad == 0) continue;
+    for (std::size_t i = b; i < e; ++i)
+      if (!std::isfinite(field.heights[i]))
+        fail("height at sample (" + std::to_string(i % field.width) + ", " +
+             std::to_string(i / field.width) + ") is not finite");
+  }
 }
 
 void validate_horizon_params(const std::string& name, const HorizonParams& params, int width,

@@ -164,20 +164,21 @@ void TerrainShadowing<N>::compute_normals(const TexelRect& r) {
 }
 
 template <int N>
-void TerrainShadowing<N>::compute_transfer_rows(const std::vector<unsigned char>* mask) {
+void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texels) {
   const int w = field_->width;
   const bool exact = config_.transfer == TransferMethod::kExact;
-  tbb::parallel_for(0, field_->height, [&](int y) {
+  // The texels texel(0), ..., texel(count - 1): the exact transfer's couplings eight at a time
+  // (exact_diffuse_transfer_8, the same bits as one at a time).
+  auto run = [&](std::size_t count, auto texel) {
     std::vector<float> raised(exact ? static_cast<std::size_t>(config_.azimuths) : 0);
-    // The exact transfer's couplings run eight texels at a time (exact_diffuse_transfer_8).
     std::array<sh::Coeffs<N + 1>, 8> vis;
     std::array<glm::vec3, 8> nrm;
     std::array<sh::Coeffs<N>, 8> res;
     std::array<std::size_t, 8> at;
     int batch = 0;
-    for (int x = 0; x < w; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * w + x;
-      if (mask && !(*mask)[i]) continue;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t i = texel(k);
+      const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
       if (exact) {  // ours (transfer.h): V above the horizon and the tangent plane, N + 1 bands
         frame_.raise_to_tangent_plane(horizons_.texel(x, y), normals_[i], raised.data());
         vis[batch] = hemisphere_exact_->visibility(raised.data());
@@ -194,6 +195,19 @@ void TerrainShadowing<N>::compute_transfer_rows(const std::vector<unsigned char>
       }
     }
     for (int b = 0; b < batch; ++b) transfer_[at[b]] = exact_diffuse_transfer<N>(vis[b], nrm[b]);
+  };
+  if (!texels) {  // every texel, a row per task
+    tbb::parallel_for(0, field_->height, [&](int y) {
+      const std::size_t row = static_cast<std::size_t>(y) * w;
+      run(static_cast<std::size_t>(w), [&](std::size_t k) { return row + k; });
+    });
+    return;
+  }
+  // A list (an edit's): blocks of 64, so that batches are whole wherever the texels lie.
+  constexpr std::size_t kBlock = 64;
+  tbb::parallel_for(std::size_t{0}, (texels->size() + kBlock - 1) / kBlock, [&](std::size_t b) {
+    const std::size_t k0 = b * kBlock;
+    run(std::min(kBlock, texels->size() - k0), [&](std::size_t k) { return (*texels)[k0 + k]; });
   });
 }
 
@@ -221,7 +235,7 @@ UpdateStats TerrainShadowing<N>::update(std::shared_ptr<const data::HeightField>
   }
   compute_horizons(config_.method, f, pyramid_, p, config_.march, TexelRect::all(f), horizons_,
                    sweep_);
-  compute_transfer_rows(nullptr);
+  compute_transfer(nullptr);
   return {true, n * config_.azimuths, n};
 }
 
@@ -256,8 +270,11 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightF
     for (int x = e.x0; x < e.x1; ++x) changed[static_cast<std::size_t>(y) * w + x] = 1;
   UpdateStats stats;
   stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed, sweep_);
-  for (unsigned char c : changed) stats.transfer_texels += c;
-  compute_transfer_rows(&changed);
+  std::vector<std::size_t> texels;
+  for (std::size_t i = 0; i < changed.size(); ++i)
+    if (changed[i]) texels.push_back(i);
+  stats.transfer_texels = texels.size();
+  compute_transfer(&texels);
   return stats;
 }
 

@@ -197,7 +197,7 @@ class TerrainShadowing {
 
  private:
   void compute_normals(const TexelRect& r);
-  void compute_transfer_rows(const std::vector<unsigned char>* mask);
+  void compute_transfer(const std::vector<std::size_t>* texels);  // null: all
   struct Span {  // texels x0 <= x < x1 of row y
     int y, x0, x1;
   };
