@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -167,7 +168,7 @@ template <int N>
 void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texels) {
   const int w = field_->width;
   const bool exact = config_.transfer == TransferMethod::kExact;
-  // The texels texel(0), ..., texel(count - 1): the exact transfer's couplings eight at a time
+  // The texels (x, y) = texel(0), ..., texel(count - 1): the exact transfer's couplings eight at a time
   // (exact_diffuse_transfer_8, the same bits as one at a time).
   auto run = [&](std::size_t count, auto texel) {
     std::vector<float> raised(exact ? static_cast<std::size_t>(config_.azimuths) : 0);
@@ -177,8 +178,8 @@ void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texel
     std::array<std::size_t, 8> at;
     int batch = 0;
     for (std::size_t k = 0; k < count; ++k) {
-      const std::size_t i = texel(k);
-      const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+      const auto [x, y] = texel(k);
+      const std::size_t i = static_cast<std::size_t>(y) * w + x;
       if (exact) {  // ours (transfer.h): V above the horizon and the tangent plane, N + 1 bands
         frame_.raise_to_tangent_plane(horizons_.texel(x, y), normals_[i], raised.data());
         vis[batch] = hemisphere_exact_->visibility(raised.data());
@@ -198,8 +199,7 @@ void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texel
   };
   if (!texels) {  // every texel, a row per task
     tbb::parallel_for(0, field_->height, [&](int y) {
-      const std::size_t row = static_cast<std::size_t>(y) * w;
-      run(static_cast<std::size_t>(w), [&](std::size_t k) { return row + k; });
+      run(static_cast<std::size_t>(w), [&](std::size_t k) { return std::pair(static_cast<int>(k), y); });
     });
     return;
   }
@@ -207,7 +207,10 @@ void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texel
   constexpr std::size_t kBlock = 64;
   tbb::parallel_for(std::size_t{0}, (texels->size() + kBlock - 1) / kBlock, [&](std::size_t b) {
     const std::size_t k0 = b * kBlock;
-    run(std::min(kBlock, texels->size() - k0), [&](std::size_t k) { return (*texels)[k0 + k]; });
+    run(std::min(kBlock, texels->size() - k0), [&](std::size_t k) {
+      const std::size_t i = (*texels)[k0 + k];
+      return std::pair(static_cast<int>(i % w), static_cast<int>(i / w));
+    });
   });
 }
 
