@@ -168,8 +168,8 @@ template <int N>
 void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texels) {
   const int w = field_->width;
   const bool exact = config_.transfer == TransferMethod::kExact;
-  // The texels (x, y) = texel(0), ..., texel(count - 1): the exact transfer's couplings eight at a time
-  // (exact_diffuse_transfer_8, the same bits as one at a time).
+  // The texels (x, y) = texel(0), ..., texel(count - 1): the exact transfer's couplings eight at a
+  // time (exact_diffuse_transfer_8, the same bits as one at a time).
   auto run = [&](std::size_t count, auto texel) {
     std::vector<float> raised(exact ? static_cast<std::size_t>(config_.azimuths) : 0);
     std::array<sh::Coeffs<N + 1>, 8> vis;
@@ -199,7 +199,8 @@ void TerrainShadowing<N>::compute_transfer(const std::vector<std::size_t>* texel
   };
   if (!texels) {  // every texel, a row per task
     tbb::parallel_for(0, field_->height, [&](int y) {
-      run(static_cast<std::size_t>(w), [&](std::size_t k) { return std::pair(static_cast<int>(k), y); });
+      run(static_cast<std::size_t>(w),
+          [&](std::size_t k) { return std::pair(static_cast<int>(k), y); });
     });
     return;
   }

@@ -197,7 +197,8 @@ class TerrainShadowing {
 
  private:
   void compute_normals(const TexelRect& r);
-  void compute_transfer(const std::vector<std::size_t>* texels);  // null: all
+  // The transfer of the listed texels (y * width + x), or of all texels where null.
+  void compute_transfer(const std::vector<std::size_t>* texels);
   struct Span {  // texels x0 <= x < x1 of row y
     int y, x0, x1;
   };
