@@ -181,7 +181,7 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
       _mm256_sqrt_ps(_mm256_mul_ps(_mm256_sub_ps(dist, r), _mm256_add_ps(dist, r))), inv);
   // Sines of the horizon samples (fast_sin's polynomial, clamped to [-pi/2, pi/2]), their
   // lowest and highest.
-  __m256 sh[kMaxCapHorizons];
+  __m256 sh[kMaxCapHorizons] = {};  // the first count (>= 1) set below
   const __m256 half_pi = _mm256_set1_ps(kHalfPi);
   for (int k = 0; k < count; ++k) {
     sh[k] = detail::fast_sin8(_mm256_min_ps(
