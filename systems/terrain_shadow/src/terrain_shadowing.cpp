@@ -473,12 +473,20 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     // their cap_horizons samples (the middle one, tau = 0, is the foot's direction: the sweep's).
     const int samples = config_.cap_horizons;
     const int middle = samples % 2 == 1 ? samples / 2 : -1;
-    CapLanes batch;
-    int batch_x[8];
-    int queued = 0;
-    bool varied = false;  // some lane has samples of its own (else one sample is the same)
-    auto flush = [&] {
-      batch.count = varied ? samples : 1;
+    // Two queues: caps the tangent plane cuts (|n.d| < radius: general_chords8) and the others
+    // (front_chords8), so that a batch runs one of the two chord kernels, not both (each lane's
+    // floats are the same in any batch).
+    struct Queue {
+      CapLanes batch;
+      int x[8];
+      int queued = 0;
+      bool varied = false;  // some lane has samples of its own (else one sample is the same)
+    };
+    Queue queues[2];
+    auto flush = [&](Queue& qu) {
+      CapLanes& batch = qu.batch;
+      const int queued = qu.queued;
+      batch.count = qu.varied ? samples : 1;
       for (int l = queued; l < 8; ++l) {  // padding lanes repeat the first
         batch.dx[l] = batch.dx[0], batch.dy[l] = batch.dy[0], batch.dz[l] = batch.dz[0];
         batch.nx[l] = batch.nx[0], batch.ny[l] = batch.ny[0], batch.nz[l] = batch.nz[0];
@@ -489,17 +497,20 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                     false, e);
       for (int l = 0; l < queued; ++l)
         if (e[l] > 0)
-          irradiance[static_cast<std::size_t>(y) * f.width + batch_x[l]] += radiance * e[l];
-      queued = 0;
-      varied = false;
+          irradiance[static_cast<std::size_t>(y) * f.width + qu.x[l]] += radiance * e[l];
+      qu.queued = 0;
+      qu.varied = false;
     };
     auto enqueue = [&](const CapLanes& lanes, int l, int x) {
-      const int q = queued;
+      const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
+      const glm::vec3 n(lanes.nx[l], lanes.ny[l], lanes.nz[l]);
+      Queue& qu = queues[std::abs(glm::dot(n, d)) < radius ? 1 : 0];
+      CapLanes& batch = qu.batch;
+      const int q = qu.queued;
       batch.dx[q] = lanes.dx[l], batch.dy[q] = lanes.dy[l], batch.dz[q] = lanes.dz[l];
       batch.nx[q] = lanes.nx[l], batch.ny[q] = lanes.ny[l], batch.nz[q] = lanes.nz[l];
       const float swept = lanes.horizon[0][l];
       for (int k = 0; k < samples; ++k) batch.horizon[k][q] = swept;
-      const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
       LightCap cap;
       if (radius * radius >= config_.cap_wide * config_.cap_wide * glm::dot(d, d) &&
           make_light_cap(d, radius, cap) && cap.rho >= config_.cap_wide) {
@@ -507,7 +518,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         const float e = detail::fast_atan(cap.sin_e / std::max(cap.cos_e, 1e-30f));
         const float half = detail::fast_asin(cap.rho);
         if (swept > e - 2 * half && swept < e + 2 * half) {
-          varied = true;
+          qu.varied = true;
           for (int k = 0; k < samples; ++k)
             if (k != middle)
               batch.horizon[k][q] =
@@ -515,8 +526,8 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                               cap_horizon_direction(cap, k, samples), cap.plane_distance, false);
         }
       }
-      batch_x[q] = x;
-      if (++queued == 8) flush();
+      qu.x[q] = x;
+      if (++qu.queued == 8) flush(qu);
     };
     for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
       const int n = std::min(8, span.x1 - x0);
@@ -544,7 +555,8 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
           irradiance[static_cast<std::size_t>(y) * f.width + x0 + l] += radiance * e[l];
       }
     }
-    if (queued > 0) flush();
+    for (Queue& qu : queues)
+      if (qu.queued > 0) flush(qu);
   };
   tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) { shade_span(si); });
 }
