@@ -459,13 +459,12 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     irradiance[i] +=
         radiance * cap_transfer(cap, normals_[i], horizon.data(), count, config_.cap_strips);
   };
-  // One compiled copy of a span's work: TBB inlines its body into several paths, and each copy
-  // may fuse multiply-adds differently (results then depend on which thread ran which span).
-  auto shade_span = [&](std::size_t si) __attribute__((noinline)) {
-    const Span& span = spans[si];
-    const int y = span.y;
+  // One compiled copy of the spans' work: TBB inlines its body into several paths, and each
+  // copy may fuse multiply-adds differently (results then depend on which thread ran which span).
+  auto shade_spans = [&](std::size_t s0, std::size_t s1) __attribute__((noinline)) {
     if (!sweep) {
-      for (int x = span.x0; x < span.x1; ++x) shade(x, y);
+      for (std::size_t si = s0; si < s1; ++si)
+        for (int x = spans[si].x0; x < spans[si].x1; ++x) shade(x, spans[si].y);
       return;
     }
     // With the sweep, eight receivers at a time (cap_transfer8): the closed cases first, then
@@ -473,12 +472,13 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     // their cap_horizons samples (the middle one, tau = 0, is the foot's direction: the sweep's).
     const int samples = config_.cap_horizons;
     const int middle = samples % 2 == 1 ? samples / 2 : -1;
-    // Two queues: caps the tangent plane cuts (|n.d| < radius: general_chords8) and the others
-    // (front_chords8), so that a batch runs one of the two chord kernels, not both (each lane's
-    // floats are the same in any batch).
+    // Two queues, kept across the task's spans: caps the tangent plane cuts (|n.d| < radius:
+    // general_chords8) and the others (front_chords8), so that a batch runs one of the two chord
+    // kernels, not both, and is partly filled only at the end (each lane's floats are the same in
+    // any batch).
     struct Queue {
       CapLanes batch;
-      int x[8];
+      std::size_t at[8];  // the receivers' texels
       int queued = 0;
       bool varied = false;  // some lane has samples of its own (else one sample is the same)
     };
@@ -496,12 +496,11 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       cap_transfer8(batch, radius, std::numeric_limits<float>::infinity(), config_.cap_strips,
                     false, e);
       for (int l = 0; l < queued; ++l)
-        if (e[l] > 0)
-          irradiance[static_cast<std::size_t>(y) * f.width + qu.x[l]] += radiance * e[l];
+        if (e[l] > 0) irradiance[qu.at[l]] += radiance * e[l];
       qu.queued = 0;
       qu.varied = false;
     };
-    auto enqueue = [&](const CapLanes& lanes, int l, int x) {
+    auto enqueue = [&](const CapLanes& lanes, int l, int x, int y) {
       const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
       const glm::vec3 n(lanes.nx[l], lanes.ny[l], lanes.nz[l]);
       Queue& qu = queues[std::abs(glm::dot(n, d)) < radius ? 1 : 0];
@@ -526,39 +525,45 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
                               cap_horizon_direction(cap, k, samples), cap.plane_distance, false);
         }
       }
-      qu.x[q] = x;
+      qu.at[q] = static_cast<std::size_t>(y) * f.width + x;
       if (++qu.queued == 8) flush(qu);
     };
-    for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
-      const int n = std::min(8, span.x1 - x0);
-      CapLanes lanes;
-      if (n == 8) radial_.horizons8(x0, y, lanes.horizon[0]);
-      for (int l = 0; l < 8; ++l) {
-        const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
-        const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
-        const glm::vec3 d = centre - position(x, y);
-        lanes.dx[l] = d.x;
-        lanes.dy[l] = d.y;
-        lanes.dz[l] = d.z;
-        lanes.nx[l] = normals_[i].x;
-        lanes.ny[l] = normals_[i].y;
-        lanes.nz[l] = normals_[i].z;
-        if (n < 8) lanes.horizon[0][l] = l < n ? radial_.horizon(x, y) : 0.0f;
-      }
-      float e[8];
-      const unsigned other =
-          cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, true, e);
-      for (int l = 0; l < n; ++l) {
-        if (other >> l & 1u)
-          enqueue(lanes, l, x0 + l);
-        else if (e[l] > 0)
-          irradiance[static_cast<std::size_t>(y) * f.width + x0 + l] += radiance * e[l];
+    for (std::size_t si = s0; si < s1; ++si) {
+      const Span& span = spans[si];
+      const int y = span.y;
+      for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
+        const int n = std::min(8, span.x1 - x0);
+        CapLanes lanes;
+        if (n == 8) radial_.horizons8(x0, y, lanes.horizon[0]);
+        for (int l = 0; l < 8; ++l) {
+          const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
+          const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
+          const glm::vec3 d = centre - position(x, y);
+          lanes.dx[l] = d.x;
+          lanes.dy[l] = d.y;
+          lanes.dz[l] = d.z;
+          lanes.nx[l] = normals_[i].x;
+          lanes.ny[l] = normals_[i].y;
+          lanes.nz[l] = normals_[i].z;
+          if (n < 8) lanes.horizon[0][l] = l < n ? radial_.horizon(x, y) : 0.0f;
+        }
+        float e[8];
+        const unsigned other =
+            cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, true, e);
+        for (int l = 0; l < n; ++l) {
+          if (other >> l & 1u)
+            enqueue(lanes, l, x0 + l, y);
+          else if (e[l] > 0)
+            irradiance[static_cast<std::size_t>(y) * f.width + x0 + l] += radiance * e[l];
+        }
       }
     }
     for (Queue& qu : queues)
       if (qu.queued > 0) flush(qu);
   };
-  tbb::parallel_for(std::size_t{0}, spans.size(), [&](std::size_t si) { shade_span(si); });
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, spans.size()),
+      [&](const tbb::blocked_range<std::size_t>& r) { shade_spans(r.begin(), r.end()); });
 }
 
 float disc_share_above(float above, float angular_radius) {
