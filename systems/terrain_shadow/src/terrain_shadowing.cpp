@@ -534,18 +534,35 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
         const int n = std::min(8, span.x1 - x0);
         CapLanes lanes;
-        if (n == 8) radial_.horizons8(x0, y, lanes.horizon[0]);
-        for (int l = 0; l < 8; ++l) {
-          const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
-          const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
-          const glm::vec3 d = centre - position(x, y);
-          lanes.dx[l] = d.x;
-          lanes.dy[l] = d.y;
-          lanes.dz[l] = d.z;
-          lanes.nx[l] = normals_[i].x;
-          lanes.ny[l] = normals_[i].y;
-          lanes.nz[l] = normals_[i].z;
-          if (n < 8) lanes.horizon[0][l] = l < n ? radial_.horizon(x, y) : 0.0f;
+        if (n == 8) {
+          radial_.horizons8(x0, y, lanes.horizon[0]);
+          // centre - position(x, y) (as for a span's last receivers below), in loops the
+          // compiler puts on vector lanes.
+          const std::size_t i0 = static_cast<std::size_t>(y) * f.width + x0;
+          const float dy = centre.y - static_cast<float>(y) * f.cell_size;
+          for (int l = 0; l < 8; ++l) {
+            lanes.dx[l] = centre.x - static_cast<float>(x0 + l) * f.cell_size;
+            lanes.dy[l] = dy;
+            lanes.dz[l] = centre.z - height_scale_ * f.heights[i0 + l];
+          }
+          for (int l = 0; l < 8; ++l) {
+            lanes.nx[l] = normals_[i0 + l].x;
+            lanes.ny[l] = normals_[i0 + l].y;
+            lanes.nz[l] = normals_[i0 + l].z;
+          }
+        } else {
+          for (int l = 0; l < 8; ++l) {
+            const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
+            const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
+            const glm::vec3 d = centre - position(x, y);
+            lanes.dx[l] = d.x;
+            lanes.dy[l] = d.y;
+            lanes.dz[l] = d.z;
+            lanes.nx[l] = normals_[i].x;
+            lanes.ny[l] = normals_[i].y;
+            lanes.nz[l] = normals_[i].z;
+            lanes.horizon[0][l] = l < n ? radial_.horizon(x, y) : 0.0f;
+          }
         }
         float e[8];
         const unsigned other =
