@@ -110,12 +110,14 @@ void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* bl
   // Hull size per lane and its top three points in registers (a = top - 1, b = top - 2,
   // c = top - 3), as sweep_lanes.cpp: a pop needs a and b only. Absent points: r = 0, read
   // from a clamped slot and never used (`top` guards every use).
-  __m256i top = izero;
-  __m256 ah = zero, ar = zero, bh = zero, br = zero, ch = zero, cr = zero;
+  // The samples first, all columns (no dependency between them, so the gathers pipeline), then
+  // the hull walk over them: its pops are a latency chain, and a short loop body refills faster
+  // after the pop loop's exits mispredict.
+  const std::size_t columns = static_cast<std::size_t>(hi - lo) * L;
+  if (sc.h.size() < columns) sc.h.resize(columns), sc.active.resize(columns);
   for (int k = lo; k < hi; ++k) {
     const double r = g.r_near + k;
     const __m256d rd = _mm256_set1_pd(r);
-    const __m256 rf = _mm256_set1_ps(static_cast<float>(r));
     const __m256d va = _mm256_add_pd(v0, _mm256_mul_pd(rd, m_lo));
     const __m256d vb = _mm256_add_pd(v0, _mm256_mul_pd(rd, m_hi));
     const __m256d fa = _mm256_floor_pd(va), fb = _mm256_floor_pd(vb);
@@ -140,8 +142,20 @@ void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* bl
         i0, _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(fv, zero, _CMP_GT_OQ)), stride_v));
     const __m256 s0 = _mm256_i32gather_ps(g.heights, i0, 4);
     const __m256 s1 = _mm256_i32gather_ps(g.heights, i1, 4);
-    const __m256 h =
-        _mm256_mul_ps(scale, _mm256_add_ps(s0, _mm256_mul_ps(fv, _mm256_sub_ps(s1, s0))));
+    const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k - lo) * L;
+    _mm256_storeu_ps(
+        sc.h.data() + at,
+        _mm256_mul_ps(scale, _mm256_add_ps(s0, _mm256_mul_ps(fv, _mm256_sub_ps(s1, s0)))));
+    _mm256_storeu_ps(sc.active.data() + at, active);
+  }
+
+  __m256i top = izero;
+  __m256 ah = zero, ar = zero, bh = zero, br = zero, ch = zero, cr = zero;
+  for (int k = lo; k < hi; ++k) {
+    const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k - lo) * L;
+    const __m256 rf = _mm256_set1_ps(static_cast<float>(g.r_near + k));
+    const __m256 h = _mm256_loadu_ps(sc.h.data() + at);
+    const __m256 active = _mm256_loadu_ps(sc.active.data() + at);
 
     // Pop while the top is not above the line from the second point (the scalar test).
     for (;;) {

@@ -30,9 +30,11 @@ struct RadialGroup {
   std::array<int, kRadialLanes> first{}, end{};  // columns swept: [first, end)
 };
 
-// Per-thread scratch: the hulls, kRadialLanes floats per depth.
+// Per-thread scratch: the hulls, kRadialLanes floats per depth; the lanes' samples (heights and
+// active masks) per column.
 struct RadialScratch {
   std::vector<float> hull_r, hull_h;
+  std::vector<float> h, active;
 };
 
 // Writes block[k * kRadialLanes + l] for k in [0, g.width): the slope (tan of the elevation) of
