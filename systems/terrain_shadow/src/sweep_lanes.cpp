@@ -221,27 +221,51 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     ah[g] = bh[g] = ch[g] = _mm256_setzero_ps();
     aj[g] = bj[g] = cj[g] = _mm256_set1_ps(j_start + 1.0f);
   }
-  int s = 0;  // step index: j = j_start - s
-  for (int u = u_start;; u -= frame.step, ++s) {
+  // The samples first, every step of the group (nothing carries from one step to the next, so
+  // these loads and compares pipeline), then the hull walk over them: its pops are a latency
+  // chain, and a short loop body refills faster after the pop loop's exits mispredict.
+  const int steps = (u_start - u_end) * frame.step + 1;
+  if (sc.step_h.size() < static_cast<std::size_t>(steps) * W) {
+    sc.step_h.resize(static_cast<std::size_t>(steps) * W);
+    sc.step_ok.resize(static_cast<std::size_t>(steps) * W);
+    sc.step_b0.resize(static_cast<std::size_t>(steps));
+    sc.step_t.resize(static_cast<std::size_t>(steps));
+  }
+  for (int s = 0; s < steps; ++s) {
+    const int u = u_start - s * frame.step;
     const double base = cg + frame.slope * u;  // lane l sits at base + l
     const int b0 = static_cast<int>(std::floor(base));
+    sc.step_b0[s] = b0;
+    if (b0 + W - 1 < 0 || b0 > bmax) continue;  // no lane inside the field
+    const float t = static_cast<float>(base - b0);
+    sc.step_t[s] = t;
+    const __m256 vt = _mm256_set1_ps(t);
+    const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
+    for (int g = 0; g < G; ++g) {
+      const __m256i b = _mm256_add_epi32(_mm256_set1_epi32(b0), lane[g]);
+      // Inside the field: 0 <= b + t <= bmax (as AzimuthFrame::height_at).
+      __m256i ok = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), b),
+                                       _mm256_cmpgt_epi32(_mm256_set1_epi32(bmax), b));
+      if (t == 0.0f) ok = _mm256_or_si256(ok, _mm256_cmpeq_epi32(b, _mm256_set1_epi32(bmax)));
+      const __m256 h0 = _mm256_loadu_ps(col + 8 * g), h1 = _mm256_loadu_ps(col + 8 * g + 1);
+      const std::size_t at = static_cast<std::size_t>(s) * W + 8 * g;
+      _mm256_storeu_ps(sc.step_h.data() + at,
+                       _mm256_mul_ps(vscale, _mm256_fmadd_ps(vt, _mm256_sub_ps(h1, h0), h0)));
+      _mm256_storeu_si256(reinterpret_cast<__m256i*>(sc.step_ok.data() + at), ok);
+    }
+  }
+  for (int s = 0, u = u_start; s < steps; ++s, u -= frame.step) {
+    const int b0 = sc.step_b0[s];
     if (b0 + W - 1 >= 0 && b0 <= bmax) {
-      const float t = static_cast<float>(base - b0);
-      const float jf = static_cast<float>(frame.step * u);
-      const __m256 j = _mm256_set1_ps(jf), vt = _mm256_set1_ps(t);
-      const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
+      const float t = sc.step_t[s];
+      const __m256 j = _mm256_set1_ps(static_cast<float>(frame.step * u));
       __m256i ok[G];
       __m256 valid[G], h[G];
       for (int g = 0; g < G; ++g) {
-        const __m256i b = _mm256_add_epi32(_mm256_set1_epi32(b0), lane[g]);
-        // Inside the field: 0 <= b + t <= bmax (as AzimuthFrame::height_at).
-        ok[g] = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_setzero_si256(), b),
-                                    _mm256_cmpgt_epi32(_mm256_set1_epi32(bmax), b));
-        if (t == 0.0f)
-          ok[g] = _mm256_or_si256(ok[g], _mm256_cmpeq_epi32(b, _mm256_set1_epi32(bmax)));
+        const std::size_t at = static_cast<std::size_t>(s) * W + 8 * g;
+        ok[g] = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(sc.step_ok.data() + at));
         valid[g] = _mm256_castsi256_ps(ok[g]);
-        const __m256 h0 = _mm256_loadu_ps(col + 8 * g), h1 = _mm256_loadu_ps(col + 8 * g + 1);
-        h[g] = _mm256_mul_ps(vscale, _mm256_fmadd_ps(vt, _mm256_sub_ps(h1, h0), h0));
+        h[g] = _mm256_loadu_ps(sc.step_h.data() + at);
       }
       // Pop while the second point is at least as steep as the top (compared without
       // dividing; Timonen 2010, sec. 4), on every lane that still needs it; the G vectors'
@@ -304,7 +328,6 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
         aj[g] = _mm256_blendv_ps(aj[g], j, valid[g]);
       }
     }
-    if (u == u_end) break;
   }
 }
 
