@@ -40,6 +40,22 @@ TEST(HorizonInput, RejectsNonFiniteHeightsNamingTheSample) {
   EXPECT_NE(error_of(f, {}, TexelRect::all(f)).find("not finite"), std::string::npos);
 }
 
+// The check runs in blocks of 1024 samples: a bad sample on a block's first or last place, or
+// in the short last block, is found and named as well.
+TEST(HorizonInput, RejectsNonFiniteHeightsInEveryBlock) {
+  auto f = test::flat_field(40, 40, 0.0f, 1.0f, "test.pgm");  // 1600 samples: 1024 + 576
+  for (const int i : {0, 1023, 1024, 1599}) {
+    f.heights[static_cast<std::size_t>(i)] = std::numeric_limits<float>::quiet_NaN();
+    const std::string e = error_of(f, {}, TexelRect::all(f));
+    const std::string where = "(" + std::to_string(i % 40) + ", " + std::to_string(i / 40) + ")";
+    EXPECT_NE(e.find(where), std::string::npos) << i << ": " << e;
+    f.heights[static_cast<std::size_t>(i)] = -std::numeric_limits<float>::infinity();
+    EXPECT_NE(error_of(f, {}, TexelRect::all(f)).find(where), std::string::npos) << i;
+    f.heights[static_cast<std::size_t>(i)] = 0.0f;
+  }
+  EXPECT_EQ(error_of(f, {}, TexelRect::all(f)), "");
+}
+
 TEST(HorizonInput, RejectsBadShapesAndParameters) {
   PENUMBRA_STABILITY(
       "bad cell size, azimuth count, height scale, rectangle outside, wrong height count",

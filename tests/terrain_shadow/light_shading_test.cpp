@@ -458,6 +458,29 @@ TEST(LightShading, OneLightTwiceOnTwoThreadsGivesTheSameBits) {
   }
 }
 
+// Receivers that need chords wait in queues kept across a task's spans, so how the spans are
+// split among tasks decides which receivers share a batch of eight: the light must not change
+// with it (one thread against two: different splits, the same bits).
+TEST(LightShading, OneLightGivesTheSameBitsOnOneThreadAndOnTwo) {
+  TerrainShadowing<4> ts(mode(LightShading::kCapHorizon));
+  ts.update(mountains(128), 1.0f);
+  const glm::vec3 centre = ts.position(64, 60) + glm::vec3(0.0f, 0.0f, 6.0f);
+  std::vector<glm::vec3> one, two;
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
+    ts.add_spherical_light(centre, 2.0f, glm::vec3(1.0f), one);
+  }
+  {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
+    ts.add_spherical_light(centre, 2.0f, glm::vec3(1.0f), two);
+  }
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_EQ(std::memcmp(one.data(), two.data(), one.size() * sizeof(glm::vec3)), 0);
+  std::size_t lit = 0;
+  for (const glm::vec3& e : one) lit += e.x > 0;
+  EXPECT_GT(lit, one.size() / 4);  // not trivially equal
+}
+
 // A sweep limited to regions gives the full sweep's horizons in them, bit for bit, for feet
 // inside, on the grid lines of, and outside the field, and for regions across the foot's sides.
 TEST(LightShading, RadialSweepOverRegionsEqualsFullSweepThere) {

@@ -58,6 +58,29 @@ TEST(TerrainShadowing, EditUpdateEqualsAFullUpdate) {
   }
 }
 
+// An edit's changed texels get their transfer in batches of eight wherever they lie (a list in
+// blocks, not rows); the couplings give the same bits in a batch as alone, so the edit's transfer
+// is a full update's, bit for bit.
+TEST(TerrainShadowing, EditTransferEqualsAFullUpdatesBitForBit) {
+  TerrainShadowConfig config;
+  config.azimuths = 16;
+  TerrainShadowing<4> edited(config), fresh(config);
+  auto field = mountains(48);
+  edited.update(field, 1.0f);
+  Brush b;
+  b.kind = BrushKind::kCrater;
+  b.centre = {40.0f, 50.0f};
+  b.radius = 9.0f;
+  b.strength = 12.0f;
+  const EditResult e = apply_brush(field, b);
+  const UpdateStats s = edited.update_edit(e.field, 1.0f, e.changed);
+  fresh.update(e.field, 1.0f);
+  ASSERT_GT(s.transfer_texels, 8u);
+  ASSERT_EQ(edited.transfer().size(), fresh.transfer().size());
+  for (std::size_t i = 0; i < fresh.transfer().size(); ++i)
+    for (int c = 0; c < 16; ++c) ASSERT_EQ(edited.transfer()[i][c], fresh.transfer()[i][c]) << i;
+}
+
 TEST(TerrainShadowing, FlatGroundSeesTheWholeSky) {
   TerrainShadowing<4> ts;
   ts.update(test::shared_flat(16), 1.0f);
