@@ -260,6 +260,110 @@ TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(full.angles.data()) % 64, 0u);
 }
 
+TEST(HorizonSweep, EditsInTurnResumeFromKeptHullsBitForBit) {
+  // One workspace through a run of edits: the same box again, moved along x and y both ways,
+  // far away, back. Each edit's line groups resume from the hulls the edits before left where
+  // those lie at or ahead of it (sweep_lanes.h, GroupHull), and walk from the far end where
+  // not; every result equals a full sweep of the edited field, bit for bit.
+  data::HeightField f = mountains(64, 21);
+  HorizonParams p;
+  p.azimuths = 24;
+  SweepWorkspace ws;
+  HorizonGrid edited;
+  sweep_horizons(f, p, TexelRect::all(f), edited, ws);
+  const TexelRect boxes[] = {{28, 30, 36, 37}, {28, 30, 36, 37}, {31, 30, 39, 37},
+                             {25, 27, 33, 34}, {28, 33, 36, 40}, {5, 50, 12, 58},
+                             {28, 30, 36, 37}, {29, 31, 34, 35}, {0, 0, 6, 4}};
+  float sign = 1;
+  for (const TexelRect& b : boxes) {
+    for (int y = b.y0; y < b.y1; ++y)
+      for (int x = b.x0; x < b.x1; ++x) f.at(x, y) += sign * (3.0f + 0.25f * (x + y));
+    sign = -sign;
+    std::vector<unsigned char> changed;
+    sweep_horizons_through(f, p, b, edited, changed, ws);
+    HorizonGrid full;
+    sweep_horizons(f, p, TexelRect::all(f), full);
+    ASSERT_EQ(edited.angles, full.angles) << "box at " << b.x0 << ", " << b.y0;
+  }
+}
+
+TEST(HorizonSweep, AKeptHullIsTheHullAWalkFromTheFarEndTakes) {
+  // The kernel itself, per azimuth (x- and y-major, both directions): an edit resumed from a
+  // kept hull leaves the same hull at its first recorded column, and the same horizons, as the
+  // same edit walked from the far end; the second box lies behind the first along +x and +y,
+  // so most groups resume and walk the gap between the two.
+  data::HeightField f = mountains(60, 5);
+  HorizonParams p;
+  p.azimuths = 16;
+  HorizonGrid before;
+  sweep_horizons(f, p, TexelRect::all(f), before);
+  const TexelRect first{30, 28, 37, 34}, second{22, 20, 29, 26};
+  for (int k = 0; k < p.azimuths; ++k) {
+    data::HeightField g = f;
+    for (int y = first.y0; y < first.y1; ++y)
+      for (int x = first.x0; x < first.x1; ++x) g.at(x, y) -= 5.0f;
+    detail::LaneFields fields(g);
+    detail::LaneScratch sc;
+    std::vector<detail::GroupHull> kept;
+    HorizonGrid out = before;
+    std::vector<unsigned char> changed(g.heights.size(), 0);
+    detail::sweep_azimuth_lines_through(g, fields, p, first, k, sc, out, changed.data(), &kept);
+    for (int y = second.y0; y < second.y1; ++y)
+      for (int x = second.x0; x < second.x1; ++x) g.at(x, y) += 4.0f;
+    fields.assign(g);
+    HorizonGrid walked = out;
+    std::vector<detail::GroupHull> fresh;
+    detail::sweep_azimuth_lines_through(g, fields, p, second, k, sc, out, changed.data(), &kept);
+    detail::sweep_azimuth_lines_through(g, fields, p, second, k, sc, walked, changed.data(),
+                                        &fresh);
+    EXPECT_EQ(out.angles, walked.angles) << "azimuth " << k;
+    for (const detail::GroupHull& w : fresh) {
+      auto it = std::find_if(kept.begin(), kept.end(),
+                             [&](const detail::GroupHull& h) { return h.cg == w.cg; });
+      ASSERT_NE(it, kept.end()) << "azimuth " << k << ", group " << w.cg;
+      EXPECT_TRUE(it->valid && w.valid);
+      EXPECT_EQ(it->u, w.u);
+      EXPECT_TRUE(std::equal(std::begin(w.size), std::end(w.size), std::begin(it->size)));
+      EXPECT_EQ(it->h, w.h) << "azimuth " << k << ", group " << w.cg;
+      EXPECT_EQ(it->j, w.j) << "azimuth " << k << ", group " << w.cg;
+    }
+  }
+}
+
+TEST(HorizonSweep, HullsKeptForAnotherFieldOrScaleAreNotUsed) {
+  // The kept hulls hold only for the field they were taken on outside the edit: a field that
+  // also differs elsewhere (a caller breaking the contract: here a tall block ahead of the edit
+  // along +x), or another height scale, clears them, so the lines through the edit come out as
+  // with a fresh workspace, bit for bit.
+  data::HeightField f = mountains(56, 8);
+  HorizonParams p;
+  p.azimuths = 16;
+  SweepWorkspace ws;
+  HorizonGrid out;
+  sweep_horizons(f, p, TexelRect::all(f), out, ws);
+  const TexelRect box{20, 24, 27, 30};
+  std::vector<unsigned char> changed;
+  for (int y = box.y0; y < box.y1; ++y)
+    for (int x = box.x0; x < box.x1; ++x) f.at(x, y) += 2.0f;
+  sweep_horizons_through(f, p, box, out, changed, ws);  // hulls kept at the box
+  for (int y = box.y0; y < box.y1; ++y)
+    for (int x = box.x0; x < box.x1; ++x) f.at(x, y) -= 1.0f;
+  for (int y = box.y0 - 2; y < box.y1 + 2; ++y)
+    for (int x = 44; x < 47; ++x) f.at(x, y) += 40.0f;  // outside the box, ahead of it
+  HorizonGrid reused = out, fresh = out;
+  sweep_horizons_through(f, p, box, reused, changed, ws);
+  sweep_horizons_through(f, p, box, fresh, changed);
+  EXPECT_EQ(reused.angles, fresh.angles) << "another field";
+  EXPECT_NE(reused.angles, out.angles);
+  p.height_scale = 1.5f;
+  for (int y = box.y0; y < box.y1; ++y)
+    for (int x = box.x0; x < box.x1; ++x) f.at(x, y) += 1.0f;
+  HorizonGrid scaled_reused = out, scaled_fresh = out;
+  sweep_horizons_through(f, p, box, scaled_reused, changed, ws);
+  sweep_horizons_through(f, p, box, scaled_fresh, changed);
+  EXPECT_EQ(scaled_reused.angles, scaled_fresh.angles) << "another height scale";
+}
+
 TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
   // The two compiled copies of the lane kernels (sweep_lanes.h): a whole sweep, a region, one
   // direction and an edit, bit for bit.

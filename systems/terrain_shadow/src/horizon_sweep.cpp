@@ -172,6 +172,11 @@ struct SweepWorkspace::Buffers {
   tbb::enumerable_thread_specific<Task> tasks;
 #ifdef __AVX2__
   detail::LaneFields fields;
+  // Per azimuth, the line groups' hulls that edits left (sweep_lanes.h, GroupHull): valid for
+  // `fields` as it is and these params; any other sweep with this workspace clears them.
+  std::vector<std::vector<detail::GroupHull>> edit_hulls;
+  int hulls_azimuths = 0;
+  float hulls_scale = 0;
 #endif
 };
 
@@ -200,6 +205,7 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   if (region.empty()) return;
 #ifdef __AVX2__
   if (kernel == Kernel::kLanes) ws.fields.assign(field);
+  ws.edit_hulls.clear();  // kept for the fields they were taken on
 #else
   kernel = Kernel::kScalar;
 #endif
@@ -296,12 +302,24 @@ std::size_t sweep_horizons_through(const data::HeightField& field, const Horizon
   if (edited.empty()) return 0;
   SweepWorkspace::Buffers& ws = workspace.buffers();
 #ifdef __AVX2__
-  ws.fields.assign(field);
+  // The kept hulls hold for the samples ahead of their columns: usable only where the field
+  // differs from the one they were taken on (the workspace's copy) inside the edit alone, which
+  // the edit's own walks then pass. Anything else (another field, other params) clears them.
+  const TexelRect diff = ws.fields.update(field);
+  if ((!diff.empty() && (diff.x0 < edited.x0 || diff.y0 < edited.y0 || diff.x1 > edited.x1 ||
+                         diff.y1 > edited.y1)) ||
+      ws.hulls_azimuths != params.azimuths || ws.hulls_scale != params.height_scale)
+    ws.edit_hulls.clear();
+  ws.edit_hulls.resize(static_cast<std::size_t>(params.azimuths));
+  ws.hulls_azimuths = params.azimuths;
+  ws.hulls_scale = params.height_scale;
   std::atomic<std::size_t> pairs{0};
-  // Each thread's scratch (its accumulators are field-sized), as sweep()'s tasks.
+  // Each thread's scratch (its accumulators are field-sized), as sweep()'s tasks; each azimuth
+  // its own hulls.
   tbb::parallel_for(0, params.azimuths, [&](int k) {
     pairs += detail::sweep_azimuth_lines_through(field, ws.fields, params, edited, k,
-                                                 ws.tasks.local().lanes, out, changed.data());
+                                                 ws.tasks.local().lanes, out, changed.data(),
+                                                 &ws.edit_hulls[static_cast<std::size_t>(k)]);
   });
   return pairs;
 #else

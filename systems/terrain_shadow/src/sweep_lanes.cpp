@@ -10,8 +10,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "fast_math.h"
@@ -54,6 +56,29 @@ void LaneFields::assign(const data::HeightField& f) {
       for (int y = y0; y < y1; ++y)
         x_major[static_cast<std::size_t>(x) * stride_x + kPad + y] = f.at(x, y);
   }
+}
+
+TexelRect LaneFields::update(const data::HeightField& f) {
+  const std::size_t w = static_cast<std::size_t>(f.width);
+  if (stride_x != f.height + 2 * kPad + 1 || stride_y != f.width + 2 * kPad + 1 ||
+      x_major.size() != w * stride_x ||
+      y_major.size() != static_cast<std::size_t>(f.height) * stride_y) {
+    assign(f);
+    return TexelRect::all(f);
+  }
+  TexelRect d{f.width, f.height, 0, 0};
+  for (int y = 0; y < f.height; ++y) {
+    const float* src = f.heights.data() + y * w;
+    float* row = y_major.data() + static_cast<std::size_t>(y) * stride_y + kPad;
+    if (std::memcmp(src, row, w * sizeof(float)) == 0) continue;  // bits, not values
+    for (int x = 0; x < f.width; ++x)
+      if (std::bit_cast<std::uint32_t>(src[x]) != std::bit_cast<std::uint32_t>(row[x])) {
+        row[x] = src[x];
+        x_major[static_cast<std::size_t>(x) * stride_x + kPad + y] = src[x];
+        d = {std::min(d.x0, x), std::min(d.y0, y), std::max(d.x1, x + 1), std::max(d.y1, y + 1)};
+      }
+  }
+  return d.x0 < d.x1 ? d : TexelRect{};
 }
 
 void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
@@ -144,6 +169,81 @@ struct Accumulator {
   }
 };
 
+// A group's hull registers (sweep_lanes.h, run_group): per vector the lanes' sizes and top
+// three points.
+using HullTops = __m256i[kVectors];
+using HullRegs = __m256[kVectors];
+
+// The hull of `keep` into the links (the slots of its points, and slot 0's absent point) and
+// registers, as a walk from the far end would have left them.
+void restore_hull(const GroupHull& keep, float j_start, float* link_h, float* link_j, HullTops& top,
+                  HullRegs& ah, HullRegs& aj, HullRegs& bh, HullRegs& bj, HullRegs& ch,
+                  HullRegs& cj) {
+  constexpr int W = kGroupLines;
+  const float absent = j_start + 1.0f;
+  alignas(32) std::int32_t n[W];
+  alignas(32) float r[6][W];  // a, b, c: height, j
+  std::size_t o = 0;
+  for (int l = 0; l < W; ++l) {
+    const int m = keep.size[l];
+    const float* ph = keep.h.data() + o;
+    const float* pj = keep.j.data() + o;
+    for (int i = 0; i < m; ++i) {  // each point's slot holds the point below it
+      const std::size_t slot = static_cast<std::size_t>(j_start - pj[i]) * W + l;
+      link_h[slot] = i > 0 ? ph[i - 1] : 0.0f;
+      link_j[slot] = i > 0 ? pj[i - 1] : absent;
+    }
+    n[l] = m;
+    for (int d = 0; d < 3; ++d) {
+      r[2 * d][l] = m > d ? ph[m - 1 - d] : 0.0f;
+      r[2 * d + 1][l] = m > d ? pj[m - 1 - d] : absent;
+    }
+    o += static_cast<std::size_t>(m);
+  }
+  for (int g = 0; g < kVectors; ++g) {
+    top[g] = _mm256_load_si256(reinterpret_cast<const __m256i*>(n + 8 * g));
+    ah[g] = _mm256_load_ps(r[0] + 8 * g), aj[g] = _mm256_load_ps(r[1] + 8 * g);
+    bh[g] = _mm256_load_ps(r[2] + 8 * g), bj[g] = _mm256_load_ps(r[3] + 8 * g);
+    ch[g] = _mm256_load_ps(r[4] + 8 * g), cj[g] = _mm256_load_ps(r[5] + 8 * g);
+  }
+}
+
+// The group's hull before column u into `keep`: the top three points from the registers, the
+// rest down the links.
+void take_hull(int cg, int u_start, int u, float j_start, const float* link_h, const float* link_j,
+               const HullTops& top, const HullRegs& ah, const HullRegs& aj, const HullRegs& bh,
+               const HullRegs& bj, const HullRegs& ch, const HullRegs& cj, GroupHull& keep) {
+  constexpr int W = kGroupLines;
+  alignas(32) std::int32_t n[W];
+  alignas(32) float r[6][W];
+  for (int g = 0; g < kVectors; ++g) {
+    _mm256_store_si256(reinterpret_cast<__m256i*>(n + 8 * g), top[g]);
+    _mm256_store_ps(r[0] + 8 * g, ah[g]), _mm256_store_ps(r[1] + 8 * g, aj[g]);
+    _mm256_store_ps(r[2] + 8 * g, bh[g]), _mm256_store_ps(r[3] + 8 * g, bj[g]);
+    _mm256_store_ps(r[4] + 8 * g, ch[g]), _mm256_store_ps(r[5] + 8 * g, cj[g]);
+  }
+  keep.h.clear();
+  keep.j.clear();
+  for (int l = 0; l < W; ++l) {
+    const int m = n[l];
+    keep.size[l] = m;
+    const std::size_t o = keep.h.size();
+    keep.h.resize(o + static_cast<std::size_t>(m));
+    keep.j.resize(o + static_cast<std::size_t>(m));
+    float* ph = keep.h.data() + o;
+    float* pj = keep.j.data() + o;
+    for (int i = m - 1, d = 0; i >= 0; --i, ++d) {
+      if (d < 3) {
+        ph[i] = r[2 * d][l], pj[i] = r[2 * d + 1][l];
+      } else {  // the point below point i + 1
+        const std::size_t slot = static_cast<std::size_t>(j_start - pj[i + 1]) * W + l;
+        ph[i] = link_h[slot], pj[i] = link_j[slot];
+      }
+    }
+  }
+  keep.cg = cg, keep.u_start = u_start, keep.u = u, keep.valid = true;
+}
+
 // What every group of an azimuth shares.
 struct Sweep {
   AzimuthFrame frame;
@@ -169,11 +269,15 @@ struct Sweep {
   int far_end() const { return frame.step > 0 ? frame.major_size - 1 : 0; }
 
   // Sweeps lines cg..cg+kGroupLines-1 from the far end of the field down to u_stop, adding the
-  // receivers' angles into `out`.
-  void run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc) const;
+  // receivers' angles into `out`. With `keep`: starts from its hull instead where that was
+  // taken for this group at or ahead of the first recorded column, and leaves there the hull
+  // at that column.
+  void run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc,
+                 GroupHull* keep = nullptr) const;
 };
 
-void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc) const {
+void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc,
+                      GroupHull* keep) const {
   constexpr int W = kGroupLines, G = kVectors;
   // Columns where any of the group's lines is inside the field (widened by one).
   int ua = 0, ub = frame.major_size - 1;
@@ -221,17 +325,32 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     ah[g] = bh[g] = ch[g] = _mm256_setzero_ps();
     aj[g] = bj[g] = cj[g] = _mm256_set1_ps(j_start + 1.0f);
   }
+  // Slot 0 holds the absent point (a step 0 without lanes in the field stores nothing), so that
+  // a refill from an absent point reads an absent point, never an earlier group's link.
+  for (int l = 0; l < W; ++l) link_h[l] = 0.0f, link_j[l] = j_start + 1.0f;
+  const int steps = (u_start - u_end) * frame.step + 1;
+  // The first recorded column's step (steps if none): where `keep` takes the hull.
+  const int u_first =
+      frame.step > 0 ? std::min(out.rec_hi - 1, u_start) : std::max(out.rec_lo, u_start);
+  const int s_keep = std::clamp((u_start - u_first) * frame.step, 0, steps);
+  int s_begin = 0;
+  if (keep && keep->valid && keep->cg == cg && keep->u_start == u_start) {
+    const int s_kept = (u_start - keep->u) * frame.step;
+    if (s_kept > 0 && s_kept <= s_keep) {
+      s_begin = s_kept;
+      restore_hull(*keep, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj);
+    }
+  }
   // The samples first, every step of the group (nothing carries from one step to the next, so
   // these loads and compares pipeline), then the hull walk over them: its pops are a latency
   // chain, and a short loop body refills faster after the pop loop's exits mispredict.
-  const int steps = (u_start - u_end) * frame.step + 1;
   if (sc.step_h.size() < static_cast<std::size_t>(steps) * W) {
     sc.step_h.resize(static_cast<std::size_t>(steps) * W);
     sc.step_ok.resize(static_cast<std::size_t>(steps) * W);
     sc.step_b0.resize(static_cast<std::size_t>(steps));
     sc.step_t.resize(static_cast<std::size_t>(steps));
   }
-  for (int s = 0; s < steps; ++s) {
+  for (int s = s_begin; s < steps; ++s) {
     const int u = u_start - s * frame.step;
     const double base = cg + frame.slope * u;  // lane l sits at base + l
     const int b0 = static_cast<int>(std::floor(base));
@@ -254,7 +373,9 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(sc.step_ok.data() + at), ok);
     }
   }
-  for (int s = 0, u = u_start; s < steps; ++s, u -= frame.step) {
+  for (int s = s_begin, u = u_start - s_begin * frame.step; s < steps; ++s, u -= frame.step) {
+    if (keep && s == s_keep)
+      take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
     const int b0 = sc.step_b0[s];
     if (b0 + W - 1 >= 0 && b0 <= bmax) {
       const float t = sc.step_t[s];
@@ -329,6 +450,9 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
       }
     }
   }
+  if (keep && s_keep == steps)
+    take_hull(cg, u_start, u_end - frame.step, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj,
+              *keep);
 }
 
 }  // namespace
@@ -403,7 +527,8 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
 
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
-                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed) {
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
+                                        std::vector<GroupHull>* hulls) {
   const Sweep sw(f, fields, p, azimuth_angle(k, p.azimuths));
   const AzimuthFrame& frame = sw.frame;
   // The edit box in (major, minor), widened by one sample (lines interpolate between rows).
@@ -440,9 +565,22 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
     }
   }
   const int u_near = frame.step > 0 ? 0 : major - 1;
-  for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += kGroupLines)
+  for (int cg = Sweep::group_of(c_first); cg <= c_last; cg += kGroupLines) {
+    GroupHull* keep = nullptr;
+    if (hulls) {
+      auto it = std::find_if(hulls->begin(), hulls->end(),
+                             [cg](const GroupHull& g) { return g.cg == cg; });
+      if (it == hulls->end()) {
+        GroupHull g;
+        g.cg = cg;
+        it = hulls->insert(it, std::move(g));
+      }
+      keep = &*it;
+    }
     sw.run_group(cg, u_near,
-                 Accumulator{sc.acc.data(), sc.t_of_u.data(), 0, 0, minor, row, u_lo, u_hi}, sc);
+                 Accumulator{sc.acc.data(), sc.t_of_u.data(), 0, 0, minor, row, u_lo, u_hi}, sc,
+                 keep);
+  }
 
   std::size_t pairs = 0;
   for (int u = u_lo; u < u_hi; ++u) {
@@ -473,7 +611,8 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
                            float* plane);
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
-                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed);
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
+                                        std::vector<GroupHull>* hulls);
 }  // namespace avx512
 
 namespace {
@@ -515,10 +654,11 @@ void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
 
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
-                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed) {
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
+                                        std::vector<GroupHull>* hulls) {
   return sweep_isa() == SweepIsa::kAvx512
-             ? avx512::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed)
-             : avx2::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed);
+             ? avx512::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed, hulls)
+             : avx2::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed, hulls);
 }
 #endif
 

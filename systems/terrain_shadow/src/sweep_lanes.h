@@ -34,6 +34,23 @@ struct LaneFields {
   LaneFields() = default;
   explicit LaneFields(const data::HeightField& f) { assign(f); }
   void assign(const data::HeightField& f);  // reuses the vectors' storage
+  // The same result as assign(f), writing only the samples whose bits differ from the copy
+  // held; returns the smallest rectangle holding them (empty when none), or the whole field when
+  // the shape differed (then assign(f) ran).
+  TexelRect update(const data::HeightField& f);
+};
+
+// One group's hull (every lane's points, bottom to top) as it was before the walk reached
+// column u: kept from one edit to the next, so that an edit whose first recorded column is at
+// or behind u resumes the walk there (the samples ahead of u are unchanged; the same floats as
+// a walk from the far end). docs/terrain_shadow.md, "Sixth round".
+struct GroupHull {
+  int cg = 0;       // the group's first line
+  int u_start = 0;  // the walk's first column (the field's far end for this group)
+  int u = 0;        // the column the hull was taken before
+  bool valid = false;
+  int size[kGroupLines] = {};  // points per lane
+  std::vector<float> h, j;     // lane 0's points, then lane 1's, ...
 };
 
 struct LaneScratch {
@@ -76,9 +93,14 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
 // Recomputes azimuth k of every texel whose sweep lines pass within a sample of `edited`,
 // exactly as a full sweep_horizons would, writing `out` (sized to the field) and setting
 // changed[y * width + x] = 1 where a value changed (relaxed atomic stores: several azimuths
-// may run concurrently). Returns the number of (texel, azimuth) pairs recomputed.
+// may run concurrently). Returns the number of (texel, azimuth) pairs recomputed. `hulls`
+// (this azimuth's, may be null) holds groups' hulls from earlier edits: a group resumes from
+// its hull where that is at or ahead of the edit, and leaves its hull at the edit's first
+// recorded column. The caller guarantees that every kept hull's samples ahead of its column
+// are those of `fields` now (horizon_sweep.cpp clears them otherwise).
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
-                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed);
+                                        LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
+                                        std::vector<GroupHull>* hulls);
 
 }  // namespace penumbra::terrain_shadow::detail

@@ -6,8 +6,10 @@
 // the baseline, so that every copy the linker may keep runs on any x86-64-v3 CPU.
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <vector>

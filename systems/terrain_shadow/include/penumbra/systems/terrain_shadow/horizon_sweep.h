@@ -32,7 +32,9 @@ namespace penumbra::terrain_shadow {
 // terrain system, at every update and edit) owns one, so that calls stop allocating once the
 // sizes settle. It holds, per thread, 8 or 16 azimuths' planes of the region (4 MB at 256^2 with
 // 32 azimuths, 64 MB at 1024^2 with 64) and the lane kernel's accumulators, and the field's two
-// padded copies. Not thread-safe: one call at a time per workspace.
+// padded copies; and, after edits (sweep_horizons_through), each edited line group's hull at
+// the edit, a few kB per group and azimuth, so that the next edit there does not walk the
+// unchanged lines ahead of it again. Not thread-safe: one call at a time per workspace.
 class SweepWorkspace {
  public:
   SweepWorkspace();
@@ -98,6 +100,10 @@ void brute_force_horizons(const data::HeightField& field, const HorizonParams& p
 // `out` must hold the field's previous horizons for the same params. Returns the number of
 // (texel, azimuth) pairs recomputed: about (edit size + 4) x (1 + |tan|) lines x the field's
 // length per azimuth, instead of the whole field. Without AVX2: a full sweep, compared.
+// With a workspace that swept or edited the previous field: the lines start from the hulls
+// the last edits left where those lie at or ahead of this edit (the same bits as a walk from
+// the far end); they are used only while the field differs from the workspace's last one
+// inside `edited` alone, with the same azimuths and height scale, and cleared otherwise.
 std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
                                    const TexelRect& edited, HorizonGrid& out,
                                    std::vector<unsigned char>& changed);
