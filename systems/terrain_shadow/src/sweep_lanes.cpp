@@ -582,20 +582,47 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
                  keep);
   }
 
+  // The recomputed values, eight texels of a column at a time (texel_weight's and the division's
+  // floats, in lanes), into the records: each comparison loads a record, a row apart.
   std::size_t pairs = 0;
+  const std::size_t n_az = static_cast<std::size_t>(out.azimuths), w = f.width;
+  const std::size_t rec_u = frame.x_major ? n_az : w * n_az,
+                    rec_v = frame.x_major ? w * n_az : n_az;
+  const std::size_t flag_u = frame.x_major ? 1 : w, flag_v = frame.x_major ? w : 1;
+  const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256 zero = _mm256_setzero_ps();
   for (int u = u_lo; u < u_hi; ++u) {
     int lo, hi;
     texel_range(u, lo, hi);
-    for (int v = lo; v < hi; ++v, ++pairs) {
-      const std::size_t i = static_cast<std::size_t>(u) * row + v + kAccPad;
-      const float wt = texel_weight(v, sw.bmax, sc.t_of_u[u]);
-      const float a = wt > 0 ? sc.acc[i] / wt : 0.0f;
-      const int x = frame.x_major ? u : v, y = frame.x_major ? v : u;
-      float& dst = out.texel(x, y)[k];
-      if (dst != a) {
-        dst = a;
-        std::atomic_ref<unsigned char>(changed[static_cast<std::size_t>(y) * f.width + x])
-            .store(1, std::memory_order_relaxed);
+    if (lo >= hi) continue;
+    pairs += static_cast<std::size_t>(hi - lo);
+    const float t = sc.t_of_u[u];
+    // texel_weight(v): (0 + (v >= 1 ? t : 0)) + (v < bmax || t == 0 ? 1 - t : 0)
+    const __m256 below = _mm256_set1_ps(t), above = _mm256_set1_ps(1.0f - t);
+    const __m256i one = _mm256_set1_epi32(1), bmax = _mm256_set1_epi32(sw.bmax);
+    const __m256i t_zero = _mm256_set1_epi32(t == 0.0f ? -1 : 0);
+    const float* acc = sc.acc.data() + static_cast<std::size_t>(u) * row + kAccPad;
+    float* rec = out.angles.data() + u * rec_u + static_cast<std::size_t>(k);
+    unsigned char* flag = changed + u * flag_u;
+    for (int v = lo; v < hi; v += 8) {
+      const __m256i vi = _mm256_add_epi32(_mm256_set1_epi32(v), iota);
+      const __m256 has_below = _mm256_castsi256_ps(
+          _mm256_or_si256(_mm256_cmpgt_epi32(vi, one), _mm256_cmpeq_epi32(vi, one)));
+      const __m256 has_above =
+          _mm256_castsi256_ps(_mm256_or_si256(_mm256_cmpgt_epi32(bmax, vi), t_zero));
+      const __m256 wt = _mm256_add_ps(_mm256_add_ps(zero, _mm256_and_ps(has_below, below)),
+                                      _mm256_and_ps(has_above, above));
+      alignas(32) float a[8];
+      _mm256_store_ps(a, _mm256_and_ps(_mm256_div_ps(_mm256_loadu_ps(acc + v), wt),
+                                       _mm256_cmp_ps(wt, zero, _CMP_GT_OQ)));
+      const int n = std::min(8, hi - v);
+      for (int l = 0; l < n; ++l) {
+        const std::size_t vl = static_cast<std::size_t>(v + l);
+        float& dst = rec[vl * rec_v];
+        if (dst != a[l]) {
+          dst = a[l];
+          std::atomic_ref<unsigned char>(flag[vl * flag_v]).store(1, std::memory_order_relaxed);
+        }
       }
     }
   }
