@@ -21,6 +21,11 @@ inline constexpr float kPi = std::numbers::pi_v<float>;
 inline constexpr float kHalfPi = kPi / 2;
 inline constexpr float kTwoPi = 2 * kPi;
 
+// fast_atan's polynomial in z^2, highest power first (the lane versions' Horner order).
+inline constexpr float kAtanPoly[] = {-4.051978102e-03f, 2.185325950e-02f,  -5.589779900e-02f,
+                                      9.641089470e-02f,  -1.390817735e-01f, 1.994647099e-01f,
+                                      -3.332985206e-01f, 9.999993333e-01f};
+
 inline float fast_atan(float x) {
   const float a = std::fabs(x);
   const bool inv = a > 1.0f;
@@ -52,10 +57,7 @@ template <std::size_t K>
 
 // fast_atan's polynomial on 8 lanes: z in [0, 1] -> atan(z).
 [[gnu::always_inline]] inline __m256 fast_atan_unit8(__m256 z) {
-  static constexpr float c[] = {-4.051978102e-03f, 2.185325950e-02f,  -5.589779900e-02f,
-                                9.641089470e-02f,  -1.390817735e-01f, 1.994647099e-01f,
-                                -3.332985206e-01f, 9.999993333e-01f};
-  return _mm256_mul_ps(z, horner8(_mm256_mul_ps(z, z), c));
+  return _mm256_mul_ps(z, horner8(_mm256_mul_ps(z, z), kAtanPoly));
 }
 
 // sin and cos on [-pi/2, pi/2] on 8 lanes (fast_sin's polynomial; cos by Taylor to x^12):

@@ -274,6 +274,17 @@ struct Sweep {
   // at that column.
   void run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc,
                  GroupHull* keep = nullptr) const;
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+  // run_group's walk over the group's samples (steps [s_begin, steps)) with the sixteen lanes
+  // in one 512-bit vector: one chain of pop rounds instead of two, lanes chosen by mask
+  // registers; the same floats as the two 8-lane vectors. The registers come in and go back
+  // out as those vectors; before step s_take (column u), take(u) runs with them written back.
+  template <class Take>
+  void walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start, float j_start,
+              const Accumulator& out, float* link_h, float* link_j, HullTops& top, HullRegs& ah,
+              HullRegs& aj, HullRegs& bh, HullRegs& bj, HullRegs& ch, HullRegs& cj,
+              Take take) const;
+#endif
 };
 
 void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc,
@@ -307,12 +318,10 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   float* link_j = sc.hull_j.data();
   const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
   const float j_start = static_cast<float>(frame.step * u_start);  // j = j_start - step index
-  const __m256 vscale = _mm256_set1_ps(scale), mps = _mm256_set1_ps(frame.metres_per_step);
-  const __m256 vj_start = _mm256_set1_ps(j_start);
+  const __m256 vscale = _mm256_set1_ps(scale);
   __m256i lane[G];
   for (int g = 0; g < G; ++g)
     lane[g] = _mm256_add_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(8 * g));
-  const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
 
   // Per vector: hull size per lane, and the top three hull points in registers (a = top - 1,
   // b = top - 2, c = top - 3): a pop needs only a and b, and the gather that refills c after a
@@ -373,6 +382,14 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(sc.step_ok.data() + at), ok);
     }
   }
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+  walk16(sc, s_begin, steps, keep ? s_keep : -1, u_start, j_start, out, link_h, link_j, top, ah, aj,
+         bh, bj, ch, cj, [&](int u) {
+           take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
+         });
+#else
+  const __m256 mps = _mm256_set1_ps(frame.metres_per_step), vj_start = _mm256_set1_ps(j_start);
+  const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
   for (int s = s_begin, u = u_start - s_begin * frame.step; s < steps; ++s, u -= frame.step) {
     if (keep && s == s_keep)
       take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
@@ -450,10 +467,121 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
       }
     }
   }
+#endif
   if (keep && s_keep == steps)
     take_hull(cg, u_start, u_end - frame.step, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj,
               *keep);
 }
+
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+// Every lane, as a mask: GCC 12's unmasked forms of some 512-bit intrinsics pass an undefined
+// vector through and warn (-Wmaybe-uninitialized, fixed in GCC 13); the zero-masked forms with
+// all lanes are the same instructions.
+constexpr __mmask16 kAll = 0xffff;
+
+// fast_atan8 on sixteen lanes, in place: the same operations in the same order, so the same
+// results (by reference: no 512-bit values cross a function boundary).
+[[gnu::always_inline]] inline void fast_atan16(__m512& x) {
+  const __m512 sign = _mm512_set1_ps(-0.0f), one = _mm512_set1_ps(1.0f);
+  const __m512 a = _mm512_andnot_ps(sign, x);
+  const __mmask16 inv = _mm512_cmp_ps_mask(a, one, _CMP_GT_OQ);
+  const __m512 z = _mm512_maskz_min_ps(kAll, a, _mm512_div_ps(one, a));
+  const __m512 z2 = _mm512_mul_ps(z, z);
+  __m512 p = _mm512_set1_ps(kAtanPoly[0]);
+  for (std::size_t i = 1; i < std::size(kAtanPoly); ++i)
+    p = _mm512_fmadd_ps(p, z2, _mm512_set1_ps(kAtanPoly[i]));
+  const __m512 r = _mm512_mul_ps(z, p);
+  x = _mm512_or_ps(_mm512_mask_blend_ps(inv, r, _mm512_sub_ps(_mm512_set1_ps(1.57079632679f), r)),
+                   _mm512_and_ps(sign, x));
+}
+
+template <class Take>
+void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start,
+                   float j_start, const Accumulator& out, float* link_h, float* link_j,
+                   HullTops& top, HullRegs& ah, HullRegs& aj, HullRegs& bh, HullRegs& bj,
+                   HullRegs& ch, HullRegs& cj, Take take) const {
+  constexpr int W = kGroupLines;
+  static_assert(W == 16 && kVectors == 2);
+  // Between the 8-lane registers and 512-bit ones through memory (entry, exit, a hull taken).
+  alignas(64) std::int32_t n[W];
+  alignas(64) float r[6][W];
+  HullRegs* const regs[6] = {&ah, &aj, &bh, &bj, &ch, &cj};
+  for (int g = 0; g < kVectors; ++g) {
+    _mm256_store_si256(reinterpret_cast<__m256i*>(n + 8 * g), top[g]);
+    for (int q = 0; q < 6; ++q) _mm256_store_ps(r[q] + 8 * g, (*regs[q])[g]);
+  }
+  __m512i t16 = _mm512_load_si512(n);
+  __m512 a_h = _mm512_load_ps(r[0]), a_j = _mm512_load_ps(r[1]), b_h = _mm512_load_ps(r[2]),
+         b_j = _mm512_load_ps(r[3]), c_h = _mm512_load_ps(r[4]), c_j = _mm512_load_ps(r[5]);
+  auto split = [&] {  // back into the 8-lane registers
+    _mm512_store_si512(n, t16);
+    _mm512_store_ps(r[0], a_h), _mm512_store_ps(r[1], a_j), _mm512_store_ps(r[2], b_h);
+    _mm512_store_ps(r[3], b_j), _mm512_store_ps(r[4], c_h), _mm512_store_ps(r[5], c_j);
+    for (int g = 0; g < kVectors; ++g) {
+      top[g] = _mm256_load_si256(reinterpret_cast<const __m256i*>(n + 8 * g));
+      for (int q = 0; q < 6; ++q) (*regs[q])[g] = _mm256_load_ps(r[q] + 8 * g);
+    }
+  };
+  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  const __m512i one = _mm512_set1_epi32(1), zero_i = _mm512_setzero_si512();
+  const __m512 zero = _mm512_setzero_ps(), vj_start = _mm512_set1_ps(j_start);
+  const __m512 mps = _mm512_set1_ps(frame.metres_per_step);
+  const __m512 minus_inf = _mm512_set1_ps(-std::numeric_limits<float>::infinity());
+  for (int s = s_begin, u = u_start - s_begin * frame.step; s < steps; ++s, u -= frame.step) {
+    if (s == s_take) {
+      split();
+      take(u);
+    }
+    const int b0 = sc.step_b0[s];
+    if (b0 + W - 1 < 0 || b0 > bmax) continue;
+    const std::size_t at = static_cast<std::size_t>(s) * W;
+    const __m512i ok = _mm512_loadu_si512(sc.step_ok.data() + at);
+    const __mmask16 valid = _mm512_test_epi32_mask(ok, ok);
+    const __m512 h = _mm512_loadu_ps(sc.step_h.data() + at);
+    const __m512 j = _mm512_set1_ps(static_cast<float>(frame.step * u));
+    // Pop while the second point is at least as steep as the top (Timonen 2010, sec. 4).
+    for (;;) {
+      const __mmask16 can = _mm512_mask_cmpgt_epi32_mask(valid, t16, one);
+      const __m512 lhs = _mm512_mul_ps(_mm512_sub_ps(b_h, h), _mm512_sub_ps(a_j, j));
+      const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
+      const __mmask16 pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
+      if (pop == 0) break;
+      // The slot c was pushed at holds the point below it.
+      const __m512i slot = _mm512_maskz_max_epi32(
+          kAll, _mm512_maskz_cvttps_epi32(kAll, _mm512_sub_ps(vj_start, c_j)), zero_i);
+      const __m512i i3 = _mm512_add_epi32(_mm512_maskz_slli_epi32(kAll, slot, kGroupShift), lane);
+      t16 = _mm512_mask_sub_epi32(t16, pop, t16, one);
+      a_h = _mm512_mask_mov_ps(a_h, pop, b_h), a_j = _mm512_mask_mov_ps(a_j, pop, b_j);
+      b_h = _mm512_mask_mov_ps(b_h, pop, c_h), b_j = _mm512_mask_mov_ps(b_j, pop, c_j);
+      c_h = _mm512_mask_i32gather_ps(c_h, pop, i3, link_h, 4);
+      c_j = _mm512_mask_i32gather_ps(c_j, pop, i3, link_j, 4);
+    }
+    if (u >= out.rec_lo && u < out.rec_hi && b0 + W >= out.v0 && b0 < out.v1) {
+      const __mmask16 has = _mm512_mask_cmpgt_epi32_mask(valid, t16, zero_i);
+      const __m512 sl =
+          _mm512_div_ps(_mm512_sub_ps(a_h, h), _mm512_mul_ps(_mm512_sub_ps(a_j, j), mps));
+      // Nothing ahead: -inf (atan -pi/2); outside the field: 0 (weight 0, kept finite).
+      __m512 angle = _mm512_maskz_mov_ps(valid, _mm512_mask_blend_ps(has, minus_inf, sl));
+      fast_atan16(angle);
+      if (clamp) angle = _mm512_maskz_max_ps(kAll, angle, zero);
+      alignas(64) float angle16[W];
+      _mm512_store_ps(angle16, angle);
+      const __m256 angles[kVectors] = {_mm256_load_ps(angle16), _mm256_load_ps(angle16 + 8)};
+      const float* ok8 = reinterpret_cast<const float*>(sc.step_ok.data() + at);
+      const __m256 masks[kVectors] = {_mm256_loadu_ps(ok8), _mm256_loadu_ps(ok8 + 8)};
+      out.add(u, b0, sc.step_t[s], angles, masks);
+    }
+    // Push on the lanes inside the field: slot s keeps the old top (every lane stores).
+    _mm512_storeu_ps(link_h + at, a_h);
+    _mm512_storeu_ps(link_j + at, a_j);
+    t16 = _mm512_mask_add_epi32(t16, valid, t16, one);
+    c_h = _mm512_mask_mov_ps(c_h, valid, b_h), c_j = _mm512_mask_mov_ps(c_j, valid, b_j);
+    b_h = _mm512_mask_mov_ps(b_h, valid, a_h), b_j = _mm512_mask_mov_ps(b_j, valid, a_j);
+    a_h = _mm512_mask_mov_ps(a_h, valid, h), a_j = _mm512_mask_mov_ps(a_j, valid, j);
+  }
+  split();
+}
+#endif
 
 }  // namespace
 
