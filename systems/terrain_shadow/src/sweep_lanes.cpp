@@ -169,6 +169,15 @@ struct Accumulator {
   }
 };
 
+// The hull links' layout: the AVX-512 copy keeps each link's height and j side by side (one
+// 64-bit gather element fetches both), the AVX2 copy in two arrays; link (slot, lane) is at
+// (slot * kGroupLines + lane) * kLinkStride from link_h and from link_j.
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+constexpr std::size_t kLinkStride = 2;
+#else
+constexpr std::size_t kLinkStride = 1;
+#endif
+
 // A group's hull registers (sweep_lanes.h, run_group): per vector the lanes' sizes and top
 // three points.
 using HullTops = __m256i[kVectors];
@@ -189,7 +198,7 @@ void restore_hull(const GroupHull& keep, float j_start, float* link_h, float* li
     const float* ph = keep.h.data() + o;
     const float* pj = keep.j.data() + o;
     for (int i = 0; i < m; ++i) {  // each point's slot holds the point below it
-      const std::size_t slot = static_cast<std::size_t>(j_start - pj[i]) * W + l;
+      const std::size_t slot = (static_cast<std::size_t>(j_start - pj[i]) * W + l) * kLinkStride;
       link_h[slot] = i > 0 ? ph[i - 1] : 0.0f;
       link_j[slot] = i > 0 ? pj[i - 1] : absent;
     }
@@ -236,7 +245,8 @@ void take_hull(int cg, int u_start, int u, float j_start, const float* link_h, c
       if (d < 3) {
         ph[i] = r[2 * d][l], pj[i] = r[2 * d + 1][l];
       } else {  // the point below point i + 1
-        const std::size_t slot = static_cast<std::size_t>(j_start - pj[i + 1]) * W + l;
+        const std::size_t slot =
+            (static_cast<std::size_t>(j_start - pj[i + 1]) * W + l) * kLinkStride;
         ph[i] = link_h[slot], pj[i] = link_j[slot];
       }
     }
@@ -281,9 +291,8 @@ struct Sweep {
   // out as those vectors; before step s_take (column u), take(u) runs with them written back.
   template <class Take>
   void walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start, float j_start,
-              const Accumulator& out, float* link_h, float* link_j, HullTops& top, HullRegs& ah,
-              HullRegs& aj, HullRegs& bh, HullRegs& bj, HullRegs& ch, HullRegs& cj,
-              Take take) const;
+              const Accumulator& out, float* links, HullTops& top, HullRegs& ah, HullRegs& aj,
+              HullRegs& bh, HullRegs& bj, HullRegs& ch, HullRegs& cj, Take take) const;
 #endif
 };
 
@@ -307,15 +316,15 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   if (ua > ub) return;
 
   const std::size_t cap = static_cast<std::size_t>(frame.major_size);
-  if (sc.hull_h.size() < cap * W) {
-    sc.hull_h.resize(cap * W), sc.hull_j.resize(cap * W);
+  if (sc.hull_h.size() < cap * W * kLinkStride) {
+    sc.hull_h.resize(cap * W * kLinkStride), sc.hull_j.resize(cap * W);
   }
   // The hull as linked lists through the group's steps: step s's slot s * W + lane holds the
   // point that was on top of that lane's hull when the step pushed its sample (the sample's
   // own height and j are in registers, a = top). A pop then reads the new third point from
   // the slot of the old one, and a push is one contiguous store per vector.
   float* link_h = sc.hull_h.data();
-  float* link_j = sc.hull_j.data();
+  float* link_j = kLinkStride == 2 ? sc.hull_h.data() + 1 : sc.hull_j.data();
   const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
   const float j_start = static_cast<float>(frame.step * u_start);  // j = j_start - step index
   const __m256 vscale = _mm256_set1_ps(scale);
@@ -336,7 +345,8 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   }
   // Slot 0 holds the absent point (a step 0 without lanes in the field stores nothing), so that
   // a refill from an absent point reads an absent point, never an earlier group's link.
-  for (int l = 0; l < W; ++l) link_h[l] = 0.0f, link_j[l] = j_start + 1.0f;
+  for (int l = 0; l < W; ++l)
+    link_h[l * kLinkStride] = 0.0f, link_j[l * kLinkStride] = j_start + 1.0f;
   const int steps = (u_start - u_end) * frame.step + 1;
   // The first recorded column's step (steps if none): where `keep` takes the hull.
   const int u_first =
@@ -383,8 +393,8 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     }
   }
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
-  walk16(sc, s_begin, steps, keep ? s_keep : -1, u_start, j_start, out, link_h, link_j, top, ah, aj,
-         bh, bj, ch, cj, [&](int u) {
+  walk16(sc, s_begin, steps, keep ? s_keep : -1, u_start, j_start, out, link_h, top, ah, aj, bh, bj,
+         ch, cj, [&](int u) {
            take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
          });
 #else
@@ -497,9 +507,9 @@ constexpr __mmask16 kAll = 0xffff;
 
 template <class Take>
 void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start,
-                   float j_start, const Accumulator& out, float* link_h, float* link_j,
-                   HullTops& top, HullRegs& ah, HullRegs& aj, HullRegs& bh, HullRegs& bj,
-                   HullRegs& ch, HullRegs& cj, Take take) const {
+                   float j_start, const Accumulator& out, float* links, HullTops& top, HullRegs& ah,
+                   HullRegs& aj, HullRegs& bh, HullRegs& bj, HullRegs& ch, HullRegs& cj,
+                   Take take) const {
   constexpr int W = kGroupLines;
   static_assert(W == 16 && kVectors == 2);
   // Between the 8-lane registers and 512-bit ones through memory (entry, exit, a hull taken).
@@ -524,6 +534,13 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
   };
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512i one = _mm512_set1_epi32(1), zero_i = _mm512_setzero_si512();
+  // Pairs (h, j) from the two gathers' halves, and interleaved for the links.
+  const __m512i evens =
+      _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+  const __m512i odds = _mm512_add_epi32(evens, one);
+  const __m512i pairs_lo =
+      _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
+  const __m512i pairs_hi = _mm512_add_epi32(pairs_lo, _mm512_set1_epi32(8));
   const __m512 zero = _mm512_setzero_ps(), vj_start = _mm512_set1_ps(j_start);
   const __m512 mps = _mm512_set1_ps(frame.metres_per_step);
   const __m512 minus_inf = _mm512_set1_ps(-std::numeric_limits<float>::infinity());
@@ -553,8 +570,15 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       t16 = _mm512_mask_sub_epi32(t16, pop, t16, one);
       a_h = _mm512_mask_mov_ps(a_h, pop, b_h), a_j = _mm512_mask_mov_ps(a_j, pop, b_j);
       b_h = _mm512_mask_mov_ps(b_h, pop, c_h), b_j = _mm512_mask_mov_ps(b_j, pop, c_j);
-      c_h = _mm512_mask_i32gather_ps(c_h, pop, i3, link_h, 4);
-      c_j = _mm512_mask_i32gather_ps(c_j, pop, i3, link_j, 4);
+      // Each link's (height, j) pair as one 64-bit element, lanes 0-7 then 8-15.
+      const __m512 lo = _mm512_castsi512_ps(
+          _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(pop),
+                                      _mm512_maskz_extracti32x8_epi32(0xff, i3, 0), links, 8));
+      const __m512 hi = _mm512_castsi512_ps(
+          _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(pop >> 8),
+                                      _mm512_maskz_extracti32x8_epi32(0xff, i3, 1), links, 8));
+      c_h = _mm512_mask_mov_ps(c_h, pop, _mm512_permutex2var_ps(lo, evens, hi));
+      c_j = _mm512_mask_mov_ps(c_j, pop, _mm512_permutex2var_ps(lo, odds, hi));
     }
     if (u >= out.rec_lo && u < out.rec_hi && b0 + W >= out.v0 && b0 < out.v1) {
       const __mmask16 has = _mm512_mask_cmpgt_epi32_mask(valid, t16, zero_i);
@@ -572,8 +596,8 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       out.add(u, b0, sc.step_t[s], angles, masks);
     }
     // Push on the lanes inside the field: slot s keeps the old top (every lane stores).
-    _mm512_storeu_ps(link_h + at, a_h);
-    _mm512_storeu_ps(link_j + at, a_j);
+    _mm512_storeu_ps(links + 2 * at, _mm512_permutex2var_ps(a_h, pairs_lo, a_j));
+    _mm512_storeu_ps(links + 2 * at + W, _mm512_permutex2var_ps(a_h, pairs_hi, a_j));
     t16 = _mm512_mask_add_epi32(t16, valid, t16, one);
     c_h = _mm512_mask_mov_ps(c_h, valid, b_h), c_j = _mm512_mask_mov_ps(c_j, valid, b_j);
     b_h = _mm512_mask_mov_ps(b_h, valid, a_h), b_j = _mm512_mask_mov_ps(b_j, valid, a_j);
