@@ -523,6 +523,12 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
   __m512i t16 = _mm512_load_si512(n);
   __m512 a_h = _mm512_load_ps(r[0]), a_j = _mm512_load_ps(r[1]), b_h = _mm512_load_ps(r[2]),
          b_j = _mm512_load_ps(r[3]), c_h = _mm512_load_ps(r[4]), c_j = _mm512_load_ps(r[5]);
+  // A fourth point, d, below c, and per lane how many of a, b, c, d are current (the rest are
+  // refilled from the links only when a pop needs them: at least min(size, 3) are current).
+  __m512 d_h = c_h, d_j = c_j;
+  const __m512i two = _mm512_set1_epi32(2), three = _mm512_set1_epi32(3),
+                four = _mm512_set1_epi32(4);
+  __m512i depth = _mm512_maskz_min_epi32(kAll, t16, three);
   auto split = [&] {  // back into the 8-lane registers
     _mm512_store_si512(n, t16);
     _mm512_store_ps(r[0], a_h), _mm512_store_ps(r[1], a_j), _mm512_store_ps(r[2], b_h);
@@ -563,22 +569,29 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
       const __mmask16 pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
       if (pop == 0) break;
-      // The slot c was pushed at holds the point below it.
-      const __m512i slot = _mm512_maskz_max_epi32(
-          kAll, _mm512_maskz_cvttps_epi32(kAll, _mm512_sub_ps(vj_start, c_j)), zero_i);
-      const __m512i i3 = _mm512_add_epi32(_mm512_maskz_slli_epi32(kAll, slot, kGroupShift), lane);
       t16 = _mm512_mask_sub_epi32(t16, pop, t16, one);
+      depth = _mm512_mask_sub_epi32(depth, pop, depth, one);
       a_h = _mm512_mask_mov_ps(a_h, pop, b_h), a_j = _mm512_mask_mov_ps(a_j, pop, b_j);
       b_h = _mm512_mask_mov_ps(b_h, pop, c_h), b_j = _mm512_mask_mov_ps(b_j, pop, c_j);
+      c_h = _mm512_mask_mov_ps(c_h, pop, d_h), c_j = _mm512_mask_mov_ps(c_j, pop, d_j);
+      // Lanes whose c is now stale with a point below b: c from b's link.
+      const __mmask16 refill =
+          _mm512_mask_cmpgt_epi32_mask(_mm512_mask_cmpgt_epi32_mask(pop, three, depth), t16, two);
+      if (refill == 0) continue;
+      // The slot b was pushed at holds the point below it.
+      const __m512i slot = _mm512_maskz_max_epi32(
+          kAll, _mm512_maskz_cvttps_epi32(kAll, _mm512_sub_ps(vj_start, b_j)), zero_i);
+      const __m512i i3 = _mm512_add_epi32(_mm512_maskz_slli_epi32(kAll, slot, kGroupShift), lane);
       // Each link's (height, j) pair as one 64-bit element, lanes 0-7 then 8-15.
       const __m512 lo = _mm512_castsi512_ps(
-          _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(pop),
+          _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(refill),
                                       _mm512_maskz_extracti32x8_epi32(0xff, i3, 0), links, 8));
       const __m512 hi = _mm512_castsi512_ps(
-          _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(pop >> 8),
+          _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(refill >> 8),
                                       _mm512_maskz_extracti32x8_epi32(0xff, i3, 1), links, 8));
-      c_h = _mm512_mask_mov_ps(c_h, pop, _mm512_permutex2var_ps(lo, evens, hi));
-      c_j = _mm512_mask_mov_ps(c_j, pop, _mm512_permutex2var_ps(lo, odds, hi));
+      c_h = _mm512_mask_mov_ps(c_h, refill, _mm512_permutex2var_ps(lo, evens, hi));
+      c_j = _mm512_mask_mov_ps(c_j, refill, _mm512_permutex2var_ps(lo, odds, hi));
+      depth = _mm512_mask_mov_epi32(depth, refill, three);
     }
     if (u >= out.rec_lo && u < out.rec_hi && b0 + W >= out.v0 && b0 < out.v1) {
       const __mmask16 has = _mm512_mask_cmpgt_epi32_mask(valid, t16, zero_i);
@@ -599,6 +612,8 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
     _mm512_storeu_ps(links + 2 * at, _mm512_permutex2var_ps(a_h, pairs_lo, a_j));
     _mm512_storeu_ps(links + 2 * at + W, _mm512_permutex2var_ps(a_h, pairs_hi, a_j));
     t16 = _mm512_mask_add_epi32(t16, valid, t16, one);
+    depth = _mm512_mask_min_epi32(depth, valid, _mm512_add_epi32(depth, one), four);
+    d_h = _mm512_mask_mov_ps(d_h, valid, c_h), d_j = _mm512_mask_mov_ps(d_j, valid, c_j);
     c_h = _mm512_mask_mov_ps(c_h, valid, b_h), c_j = _mm512_mask_mov_ps(c_j, valid, b_j);
     b_h = _mm512_mask_mov_ps(b_h, valid, a_h), b_j = _mm512_mask_mov_ps(b_j, valid, a_j);
     a_h = _mm512_mask_mov_ps(a_h, valid, h), a_j = _mm512_mask_mov_ps(a_j, valid, j);
