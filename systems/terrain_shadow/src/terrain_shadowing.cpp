@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -269,14 +271,26 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightF
   // Every horizon the edit can change lies on a sweep line passing within a sample of it:
   // recompute those lines exactly as a full sweep would (sweep_horizons_through), then the
   // transfer of texels whose horizons or normal changed.
-  std::vector<unsigned char> changed(static_cast<std::size_t>(w) * h, 0);
+  // The flags are all zero between edits (cleared below from the list), so an edit does not
+  // clear the whole field's.
+  std::vector<unsigned char>& changed = edit_flags_;
+  changed.resize(static_cast<std::size_t>(w) * h, 0);
   for (int y = e.y0; y < e.y1; ++y)
     for (int x = e.x0; x < e.x1; ++x) changed[static_cast<std::size_t>(y) * w + x] = 1;
   UpdateStats stats;
   stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed, sweep_);
   std::vector<std::size_t> texels;
-  for (std::size_t i = 0; i < changed.size(); ++i)
+  std::size_t i = 0;
+  for (; i + 8 <= changed.size(); i += 8) {  // eight flags a load: most are zero
+    std::uint64_t any;
+    std::memcpy(&any, changed.data() + i, 8);
+    if (any != 0)
+      for (std::size_t k = i; k < i + 8; ++k)
+        if (changed[k]) texels.push_back(k);
+  }
+  for (; i < changed.size(); ++i)
     if (changed[i]) texels.push_back(i);
+  for (std::size_t t : texels) changed[t] = 0;
   stats.transfer_texels = texels.size();
   compute_transfer(&texels);
   return stats;

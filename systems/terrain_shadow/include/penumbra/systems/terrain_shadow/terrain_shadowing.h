@@ -220,9 +220,10 @@ class TerrainShadowing {
   HeightPyramid pyramid_;
   bool pyramid_valid_ = false;
   HorizonGrid horizons_;
-  SweepWorkspace sweep_;        // the environment sweep's buffers (update, update_edit)
-  HorizonGrid light_horizons_;  // scratch for add_spherical_light (kShWedges)
-  RadialHorizonSweep radial_;   // scratch for add_spherical_light (kCapHorizon, kSweep)
+  SweepWorkspace sweep_;                   // the environment sweep's buffers (update, update_edit)
+  std::vector<unsigned char> edit_flags_;  // update_edit's changed texels; zero between calls
+  HorizonGrid light_horizons_;             // scratch for add_spherical_light (kShWedges)
+  RadialHorizonSweep radial_;              // scratch for add_spherical_light (kCapHorizon, kSweep)
   std::vector<glm::vec3> normals_;
   std::vector<sh::Coeffs<N>> transfer_;
 };
