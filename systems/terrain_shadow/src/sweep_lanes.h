@@ -10,7 +10,9 @@
 // (tested). The hull is kept as links through the group's steps (a push is one vector store),
 // and each step's receivers go onto their texels at once (no per-group record arrays). Why 16
 // lines, three hull points in registers and an AVX-512 copy: docs/terrain_shadow.md, "Speed
-// toward the floors".
+// toward the floors". The AVX-512 copy walks the sixteen lanes in one 512-bit vector, with four
+// hull points in registers and each link's height and j side by side (one 64-bit gather element
+// each; "Sixth round").
 #pragma once
 
 #include <cstddef>
