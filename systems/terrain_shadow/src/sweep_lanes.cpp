@@ -377,8 +377,26 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     if (b0 + W - 1 < 0 || b0 > bmax) continue;  // no lane inside the field
     const float t = static_cast<float>(base - b0);
     sc.step_t[s] = t;
-    const __m256 vt = _mm256_set1_ps(t);
     const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+    {  // the same on sixteen lanes
+      const __m512i b =
+          _mm512_add_epi32(_mm512_set1_epi32(b0),
+                           _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
+      __mmask16 ok = _mm512_mask_cmpgt_epi32_mask(
+          _mm512_cmpge_epi32_mask(b, _mm512_setzero_si512()), _mm512_set1_epi32(bmax), b);
+      if (t == 0.0f) ok |= _mm512_cmpeq_epi32_mask(b, _mm512_set1_epi32(bmax));
+      const __m512 h0 = _mm512_loadu_ps(col), h1 = _mm512_loadu_ps(col + 1);
+      const std::size_t at = static_cast<std::size_t>(s) * W;
+      _mm512_storeu_ps(
+          sc.step_h.data() + at,
+          _mm512_mul_ps(_mm512_set1_ps(scale),
+                        _mm512_fmadd_ps(_mm512_set1_ps(t), _mm512_sub_ps(h1, h0), h0)));
+      _mm512_storeu_si512(sc.step_ok.data() + at, _mm512_movm_epi32(ok));
+      continue;
+    }
+#endif
+    const __m256 vt = _mm256_set1_ps(t);
     for (int g = 0; g < G; ++g) {
       const __m256i b = _mm256_add_epi32(_mm256_set1_epi32(b0), lane[g]);
       // Inside the field: 0 <= b + t <= bmax (as AzimuthFrame::height_at).
@@ -505,6 +523,30 @@ constexpr __mmask16 kAll = 0xffff;
                    _mm512_and_ps(sign, x));
 }
 
+// Accumulator::add with the sixteen angles in one vector: texels b0 .. b0 + 15 in one step
+// (lane m takes t times lane m - 1's angle, then 1 - t times its own), then b0 + 16 .. b0 + 23
+// as add()'s last vector (lane 15's angle below texel b0 + 16): the same floats into the same
+// slots.
+[[gnu::always_inline]] inline void add16(const Accumulator& out, int u, int b0, float t,
+                                         const __m512& angle, __mmask16 valid) {
+  const std::size_t q = static_cast<std::size_t>(u - out.u0) * out.row + (b0 - out.v0 + kAccPad);
+  float* a = out.acc + q;
+  out.t_of_u[u - out.u0] = t;
+  const __m512i up = _mm512_setr_epi32(15, 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14);
+  const __m512 below = _mm512_maskz_permutexvar_ps(0xfffe, up, angle);
+  const __m512 w_hi = _mm512_maskz_mov_ps(static_cast<__mmask16>(valid << 1), _mm512_set1_ps(t));
+  const __m512 w_lo = _mm512_maskz_mov_ps(valid, _mm512_set1_ps(1.0f - t));
+  _mm512_storeu_ps(a,
+                   _mm512_fmadd_ps(w_lo, angle, _mm512_fmadd_ps(w_hi, below, _mm512_loadu_ps(a))));
+  alignas(64) float last[16];
+  _mm512_store_ps(last, angle);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 below8 = _mm256_blend_ps(zero, _mm256_set1_ps(last[15]), 1);
+  const __m256 w_hi8 = (valid >> 15) ? _mm256_blend_ps(zero, _mm256_set1_ps(t), 1) : zero;
+  _mm256_storeu_ps(
+      a + 16, _mm256_fmadd_ps(zero, zero, _mm256_fmadd_ps(w_hi8, below8, _mm256_loadu_ps(a + 16))));
+}
+
 template <class Take>
 void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start,
                    float j_start, const Accumulator& out, float* links, HullTops& top, HullRegs& ah,
@@ -601,12 +643,7 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       __m512 angle = _mm512_maskz_mov_ps(valid, _mm512_mask_blend_ps(has, minus_inf, sl));
       fast_atan16(angle);
       if (clamp) angle = _mm512_maskz_max_ps(kAll, angle, zero);
-      alignas(64) float angle16[W];
-      _mm512_store_ps(angle16, angle);
-      const __m256 angles[kVectors] = {_mm256_load_ps(angle16), _mm256_load_ps(angle16 + 8)};
-      const float* ok8 = reinterpret_cast<const float*>(sc.step_ok.data() + at);
-      const __m256 masks[kVectors] = {_mm256_loadu_ps(ok8), _mm256_loadu_ps(ok8 + 8)};
-      out.add(u, b0, sc.step_t[s], angles, masks);
+      add16(out, u, b0, sc.step_t[s], angle, valid);
     }
     // Push on the lanes inside the field: slot s keeps the old top (every lane stores).
     _mm512_storeu_ps(links + 2 * at, _mm512_permutex2var_ps(a_h, pairs_lo, a_j));
