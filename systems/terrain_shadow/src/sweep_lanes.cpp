@@ -360,6 +360,8 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
       restore_hull(*keep, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj);
     }
   }
+  // Where the hull is taken (-1: nowhere; not again where it was restored from).
+  const int s_take = keep && !(s_begin > 0 && s_begin == s_keep) ? s_keep : -1;
   // The samples first, every step of the group (nothing carries from one step to the next, so
   // these loads and compares pipeline), then the hull walk over them: its pops are a latency
   // chain, and a short loop body refills faster after the pop loop's exits mispredict.
@@ -411,15 +413,15 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     }
   }
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
-  walk16(sc, s_begin, steps, keep ? s_keep : -1, u_start, j_start, out, link_h, top, ah, aj, bh, bj,
-         ch, cj, [&](int u) {
+  walk16(sc, s_begin, steps, s_take, u_start, j_start, out, link_h, top, ah, aj, bh, bj, ch, cj,
+         [&](int u) {
            take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
          });
 #else
   const __m256 mps = _mm256_set1_ps(frame.metres_per_step), vj_start = _mm256_set1_ps(j_start);
   const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
   for (int s = s_begin, u = u_start - s_begin * frame.step; s < steps; ++s, u -= frame.step) {
-    if (keep && s == s_keep)
+    if (s == s_take)
       take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
     const int b0 = sc.step_b0[s];
     if (b0 + W - 1 >= 0 && b0 <= bmax) {
@@ -496,7 +498,7 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     }
   }
 #endif
-  if (keep && s_keep == steps)
+  if (s_take == steps)
     take_hull(cg, u_start, u_end - frame.step, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj,
               *keep);
 }

@@ -281,11 +281,11 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightF
   stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed, sweep_);
   std::vector<std::size_t> texels;
   std::size_t i = 0;
-  for (; i + 8 <= changed.size(); i += 8) {  // eight flags a load: most are zero
-    std::uint64_t any;
-    std::memcpy(&any, changed.data() + i, 8);
-    if (any != 0)
-      for (std::size_t k = i; k < i + 8; ++k)
+  for (; i + 32 <= changed.size(); i += 32) {  // 32 flags at a time: most are zero
+    std::uint64_t q[4];
+    std::memcpy(q, changed.data() + i, 32);
+    if ((q[0] | q[1] | q[2] | q[3]) != 0)
+      for (std::size_t k = i; k < i + 32; ++k)
         if (changed[k]) texels.push_back(k);
   }
   for (; i < changed.size(); ++i)
