@@ -27,6 +27,25 @@ data::HeightField mountains(int n, std::uint64_t seed = 3) {
   return assets::procedural_scene("mountains", {n, static_cast<float>(n)}, seed);
 }
 
+// A field swept once through a workspace: where the edit tests start.
+struct Swept {
+  data::HeightField f;
+  HorizonParams p;
+  SweepWorkspace ws;
+  HorizonGrid horizons;
+};
+Swept swept(int n, std::uint64_t seed, int azimuths) {
+  Swept s{mountains(n, seed), {}, {}, {}};
+  s.p.azimuths = azimuths;
+  sweep_horizons(s.f, s.p, TexelRect::all(s.f), s.horizons, s.ws);
+  return s;
+}
+
+void raise_box(data::HeightField& f, const TexelRect& b, float dh) {
+  for (int y = b.y0; y < b.y1; ++y)
+    for (int x = b.x0; x < b.x1; ++x) f.at(x, y) += dh;
+}
+
 float max_abs_difference(const HorizonGrid& a, const HorizonGrid& b) {
   float m = 0;
   for (std::size_t i = 0; i < a.angles.size(); ++i)
@@ -265,12 +284,7 @@ TEST(HorizonSweep, EditsInTurnResumeFromKeptHullsBitForBit) {
   // far away, back. Each edit's line groups resume from the hulls the edits before left where
   // those lie at or ahead of it (sweep_lanes.h, GroupHull), and walk from the far end where
   // not; every result equals a full sweep of the edited field, bit for bit.
-  data::HeightField f = mountains(64, 21);
-  HorizonParams p;
-  p.azimuths = 24;
-  SweepWorkspace ws;
-  HorizonGrid edited;
-  sweep_horizons(f, p, TexelRect::all(f), edited, ws);
+  auto [f, p, ws, edited] = swept(64, 21, 24);
   const TexelRect boxes[] = {{28, 30, 36, 37}, {28, 30, 36, 37}, {31, 30, 39, 37},
                              {25, 27, 33, 34}, {28, 33, 36, 40}, {5, 50, 12, 58},
                              {28, 30, 36, 37}, {29, 31, 34, 35}, {0, 0, 6, 4}};
@@ -300,16 +314,14 @@ TEST(HorizonSweep, AKeptHullIsTheHullAWalkFromTheFarEndTakes) {
   const TexelRect first{30, 28, 37, 34}, second{22, 20, 29, 26};
   for (int k = 0; k < p.azimuths; ++k) {
     data::HeightField g = f;
-    for (int y = first.y0; y < first.y1; ++y)
-      for (int x = first.x0; x < first.x1; ++x) g.at(x, y) -= 5.0f;
+    raise_box(g, first, -5.0f);
     detail::LaneFields fields(g);
     detail::LaneScratch sc;
     std::vector<detail::GroupHull> kept;
     HorizonGrid out = before;
     std::vector<unsigned char> changed(g.heights.size(), 0);
     detail::sweep_azimuth_lines_through(g, fields, p, first, k, sc, out, changed.data(), &kept);
-    for (int y = second.y0; y < second.y1; ++y)
-      for (int x = second.x0; x < second.x1; ++x) g.at(x, y) += 4.0f;
+    raise_box(g, second, 4.0f);
     fields.assign(g);
     HorizonGrid walked = out;
     std::vector<detail::GroupHull> fresh;
@@ -335,29 +347,20 @@ TEST(HorizonSweep, HullsKeptForAnotherFieldOrScaleAreNotUsed) {
   // also differs elsewhere (a caller breaking the contract: here a tall block ahead of the edit
   // along +x), or another height scale, clears them, so the lines through the edit come out as
   // with a fresh workspace, bit for bit.
-  data::HeightField f = mountains(56, 8);
-  HorizonParams p;
-  p.azimuths = 16;
-  SweepWorkspace ws;
-  HorizonGrid out;
-  sweep_horizons(f, p, TexelRect::all(f), out, ws);
+  auto [f, p, ws, out] = swept(56, 8, 16);
   const TexelRect box{20, 24, 27, 30};
   std::vector<unsigned char> changed;
-  for (int y = box.y0; y < box.y1; ++y)
-    for (int x = box.x0; x < box.x1; ++x) f.at(x, y) += 2.0f;
+  raise_box(f, box, 2.0f);
   sweep_horizons_through(f, p, box, out, changed, ws);  // hulls kept at the box
-  for (int y = box.y0; y < box.y1; ++y)
-    for (int x = box.x0; x < box.x1; ++x) f.at(x, y) -= 1.0f;
-  for (int y = box.y0 - 2; y < box.y1 + 2; ++y)
-    for (int x = 44; x < 47; ++x) f.at(x, y) += 40.0f;  // outside the box, ahead of it
+  raise_box(f, box, -1.0f);
+  raise_box(f, {44, box.y0 - 2, 47, box.y1 + 2}, 40.0f);  // outside the box, ahead of it
   HorizonGrid reused = out, fresh = out;
   sweep_horizons_through(f, p, box, reused, changed, ws);
   sweep_horizons_through(f, p, box, fresh, changed);
   EXPECT_EQ(reused.angles, fresh.angles) << "another field";
   EXPECT_NE(reused.angles, out.angles);
   p.height_scale = 1.5f;
-  for (int y = box.y0; y < box.y1; ++y)
-    for (int x = box.x0; x < box.x1; ++x) f.at(x, y) += 1.0f;
+  raise_box(f, box, 1.0f);
   HorizonGrid scaled_reused = out, scaled_fresh = out;
   sweep_horizons_through(f, p, box, scaled_reused, changed, ws);
   sweep_horizons_through(f, p, box, scaled_fresh, changed);
