@@ -368,8 +368,9 @@ TEST(HorizonSweep, HullsKeptForAnotherFieldOrScaleAreNotUsed) {
 }
 
 TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
-  // The two compiled copies of the lane kernels (sweep_lanes.h): a whole sweep, a region, one
-  // direction and an edit, bit for bit.
+  // The two compiled copies of the lane kernels (sweep_lanes.h; the AVX-512 one walks sixteen
+  // lanes in one vector): a whole sweep, a region, one direction, and two edits through one
+  // workspace (the second resumes from the hulls the first kept), bit for bit.
   if (detail::sweep_isa() != detail::SweepIsa::kAvx512)
     GTEST_SKIP() << "this CPU has no AVX-512: only the AVX2 kernels can run";
   data::HeightField f = mountains(70, 13);
@@ -379,15 +380,18 @@ TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
     detail::force_sweep_isa(isa);
     HorizonGrid all, region;
     std::vector<float> one;
-    sweep_horizons(f, p, TexelRect::all(f), all);
+    SweepWorkspace ws;
+    sweep_horizons(f, p, TexelRect::all(f), all, ws);
     sweep_horizons(f, p, TexelRect{9, 4, 61, 40}, region);
     sweep_direction_horizons(f, p, 0.7, TexelRect::all(f), one);
     data::HeightField g = f;
-    for (int y = 30; y < 36; ++y)
-      for (int x = 40; x < 44; ++x) g.at(x, y) += 7.0f;
+    const TexelRect box{40, 30, 44, 36};
+    raise_box(g, box, 7.0f);
     HorizonGrid edited = all;
     std::vector<unsigned char> changed;
-    sweep_horizons_through(g, p, TexelRect{40, 30, 44, 36}, edited, changed);
+    sweep_horizons_through(g, p, box, edited, changed, ws);
+    raise_box(g, box, -3.0f);
+    sweep_horizons_through(g, p, box, edited, changed, ws);
     detail::force_sweep_isa(std::nullopt);
     return std::make_tuple(all.angles, region.angles, one, edited.angles, changed);
   };
