@@ -301,6 +301,25 @@ TEST(HorizonSweep, EditsInTurnResumeFromKeptHullsBitForBit) {
   }
 }
 
+TEST(HorizonSweep, EditsAtTheBordersAndOfOneTexelEqualAFullSweep) {
+  // The lines an edit recomputes are those whose samples read its rows at its columns, and the
+  // texels either side of them: edits on the field's corners and edges, one texel wide, and a
+  // box the width of the field, over 37 azimuths (slopes of every size), bit for bit.
+  auto [f, p, ws, edited] = swept(41, 17, 37);
+  const TexelRect boxes[] = {{0, 0, 3, 2},   {38, 0, 41, 1},   {0, 39, 1, 41},  {40, 40, 41, 41},
+                             {20, 0, 21, 1}, {17, 23, 18, 24}, {0, 18, 41, 20}, {9, 5, 10, 36}};
+  float dh = 6.0f;
+  for (const TexelRect& b : boxes) {
+    raise_box(f, b, dh);
+    dh = -dh * 0.8f;
+    std::vector<unsigned char> changed;
+    sweep_horizons_through(f, p, b, edited, changed, ws);
+    HorizonGrid full;
+    sweep_horizons(f, p, TexelRect::all(f), full);
+    ASSERT_EQ(edited.angles, full.angles) << "box at " << b.x0 << ", " << b.y0;
+  }
+}
+
 TEST(HorizonSweep, AKeptHullIsTheHullAWalkFromTheFarEndTakes) {
   // The kernel itself, per azimuth (x- and y-major, both directions): an edit resumed from a
   // kept hull leaves the same hull at its first recorded column, and the same horizons, as the

@@ -737,17 +737,19 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
                                         std::vector<GroupHull>* hulls) {
   const Sweep sw(f, fields, p, azimuth_angle(k, p.azimuths));
   const AzimuthFrame& frame = sw.frame;
-  // The edit box in (major, minor), widened by one sample (lines interpolate between rows).
-  const int ua = std::max((frame.x_major ? edited.x0 : edited.y0) - 1, 0);
-  const int ub = std::min((frame.x_major ? edited.x1 : edited.y1), frame.major_size - 1);
-  const int va = (frame.x_major ? edited.y0 : edited.x0) - 1;
-  const int vb = (frame.x_major ? edited.y1 : edited.x1);
-  // Lines passing within a row of the box, plus one either side: every texel one of these
-  // lines touches then has both its lines recomputed.
-  const int c_first =
-      static_cast<int>(std::floor(std::min(va - frame.slope * ua, va - frame.slope * ub))) - 2;
-  const int c_last =
-      static_cast<int>(std::ceil(std::max(vb - frame.slope * ua, vb - frame.slope * ub))) + 2;
+  // The edit box's columns [ua, ub] and rows [v0, v1) in (major, minor). Line c's sample at
+  // column u lies at b = c + slope u and reads rows floor(b) and floor(b) + 1, so the lines the
+  // edit changes are those with y0 - 1 <= b < y1 at a box column: c in [l0, l1), the extremes at
+  // the box's first and last columns.
+  const int ua = frame.x_major ? edited.x0 : edited.y0,
+            ub = (frame.x_major ? edited.x1 : edited.y1) - 1;
+  const int v0 = frame.x_major ? edited.y0 : edited.x0, v1 = frame.x_major ? edited.y1 : edited.x1;
+  const double l0 = std::min(v0 - 1 - frame.slope * ua, v0 - 1 - frame.slope * ub);
+  const double l1 = std::max(v1 - frame.slope * ua, v1 - frame.slope * ub);
+  // A texel between lines floor(x) and floor(x) + 1 (x = v - slope u) changes when either does:
+  // x in [l0 - 1, l1 + 1). Those texels, and both their lines, are recomputed.
+  const int c_first = static_cast<int>(std::floor(l0)) - 1;
+  const int c_last = static_cast<int>(std::ceil(l1)) + 1;
   const int major = frame.major_size, minor = frame.minor_size;
   const int row = minor + 2 * kAccPad;
   if (sc.acc.size() < static_cast<std::size_t>(major) * row)
@@ -762,7 +764,7 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
   // A sample's horizon depends on its own column and those ahead of it (along +step) only, so
   // texels ahead of the box keep theirs bit for bit: the lines are swept whole (the hull needs
   // what lies ahead) but only the columns from the near border up to the box are recorded.
-  const int u_lo = frame.step > 0 ? 0 : ua, u_hi = frame.step > 0 ? ub + 1 : major;
+  const int u_lo = frame.step > 0 ? 0 : ua, u_hi = frame.step > 0 ? ub + 1 : major;  // box too
   for (int u = u_lo; u < u_hi; ++u) {
     int lo, hi;
     texel_range(u, lo, hi);
