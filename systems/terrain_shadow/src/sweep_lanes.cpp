@@ -178,20 +178,41 @@ constexpr std::size_t kLinkStride = 2;
 constexpr std::size_t kLinkStride = 1;
 #endif
 
-// A group's hull registers (sweep_lanes.h, run_group): per vector the lanes' sizes and top
-// three points.
-using HullTops = __m256i[kVectors];
-using HullRegs = __m256[kVectors];
+// A group's hull registers (run_group): per vector the lanes' sizes and top three points
+// (a = the top, b, c: height and j).
+struct HullRegisters {
+  __m256i top[kVectors];
+  __m256 ah[kVectors], aj[kVectors], bh[kVectors], bj[kVectors], ch[kVectors], cj[kVectors];
+};
+
+// The same per lane in memory: between the registers, a kept hull and the 512-bit walk.
+struct HullLanes {
+  alignas(64) std::int32_t size[kGroupLines];
+  alignas(64) float p[6][kGroupLines];  // a, b, c: height, j
+
+  void store(const HullRegisters& r) {
+    const __m256* const regs[6] = {r.ah, r.aj, r.bh, r.bj, r.ch, r.cj};
+    for (int g = 0; g < kVectors; ++g) {
+      _mm256_store_si256(reinterpret_cast<__m256i*>(size + 8 * g), r.top[g]);
+      for (int q = 0; q < 6; ++q) _mm256_store_ps(p[q] + 8 * g, regs[q][g]);
+    }
+  }
+  void load_into(HullRegisters& r) const {
+    __m256* const regs[6] = {r.ah, r.aj, r.bh, r.bj, r.ch, r.cj};
+    for (int g = 0; g < kVectors; ++g) {
+      r.top[g] = _mm256_load_si256(reinterpret_cast<const __m256i*>(size + 8 * g));
+      for (int q = 0; q < 6; ++q) regs[q][g] = _mm256_load_ps(p[q] + 8 * g);
+    }
+  }
+};
 
 // The hull of `keep` into the links (the slots of its points, and slot 0's absent point) and
 // registers, as a walk from the far end would have left them.
-void restore_hull(const GroupHull& keep, float j_start, float* link_h, float* link_j, HullTops& top,
-                  HullRegs& ah, HullRegs& aj, HullRegs& bh, HullRegs& bj, HullRegs& ch,
-                  HullRegs& cj) {
+void restore_hull(const GroupHull& keep, float j_start, float* link_h, float* link_j,
+                  HullRegisters& regs) {
   constexpr int W = kGroupLines;
   const float absent = j_start + 1.0f;
-  alignas(32) std::int32_t n[W];
-  alignas(32) float r[6][W];  // a, b, c: height, j
+  HullLanes lanes;
   std::size_t o = 0;
   for (int l = 0; l < W; ++l) {
     const int m = keep.size[l];
@@ -202,39 +223,27 @@ void restore_hull(const GroupHull& keep, float j_start, float* link_h, float* li
       link_h[slot] = i > 0 ? ph[i - 1] : 0.0f;
       link_j[slot] = i > 0 ? pj[i - 1] : absent;
     }
-    n[l] = m;
+    lanes.size[l] = m;
     for (int d = 0; d < 3; ++d) {
-      r[2 * d][l] = m > d ? ph[m - 1 - d] : 0.0f;
-      r[2 * d + 1][l] = m > d ? pj[m - 1 - d] : absent;
+      lanes.p[2 * d][l] = m > d ? ph[m - 1 - d] : 0.0f;
+      lanes.p[2 * d + 1][l] = m > d ? pj[m - 1 - d] : absent;
     }
     o += static_cast<std::size_t>(m);
   }
-  for (int g = 0; g < kVectors; ++g) {
-    top[g] = _mm256_load_si256(reinterpret_cast<const __m256i*>(n + 8 * g));
-    ah[g] = _mm256_load_ps(r[0] + 8 * g), aj[g] = _mm256_load_ps(r[1] + 8 * g);
-    bh[g] = _mm256_load_ps(r[2] + 8 * g), bj[g] = _mm256_load_ps(r[3] + 8 * g);
-    ch[g] = _mm256_load_ps(r[4] + 8 * g), cj[g] = _mm256_load_ps(r[5] + 8 * g);
-  }
+  lanes.load_into(regs);
 }
 
 // The group's hull before column u into `keep`: the top three points from the registers, the
 // rest down the links.
 void take_hull(int cg, int u_start, int u, float j_start, const float* link_h, const float* link_j,
-               const HullTops& top, const HullRegs& ah, const HullRegs& aj, const HullRegs& bh,
-               const HullRegs& bj, const HullRegs& ch, const HullRegs& cj, GroupHull& keep) {
+               const HullRegisters& regs, GroupHull& keep) {
   constexpr int W = kGroupLines;
-  alignas(32) std::int32_t n[W];
-  alignas(32) float r[6][W];
-  for (int g = 0; g < kVectors; ++g) {
-    _mm256_store_si256(reinterpret_cast<__m256i*>(n + 8 * g), top[g]);
-    _mm256_store_ps(r[0] + 8 * g, ah[g]), _mm256_store_ps(r[1] + 8 * g, aj[g]);
-    _mm256_store_ps(r[2] + 8 * g, bh[g]), _mm256_store_ps(r[3] + 8 * g, bj[g]);
-    _mm256_store_ps(r[4] + 8 * g, ch[g]), _mm256_store_ps(r[5] + 8 * g, cj[g]);
-  }
+  HullLanes lanes;
+  lanes.store(regs);
   keep.h.clear();
   keep.j.clear();
   for (int l = 0; l < W; ++l) {
-    const int m = n[l];
+    const int m = lanes.size[l];
     keep.size[l] = m;
     const std::size_t o = keep.h.size();
     keep.h.resize(o + static_cast<std::size_t>(m));
@@ -243,7 +252,7 @@ void take_hull(int cg, int u_start, int u, float j_start, const float* link_h, c
     float* pj = keep.j.data() + o;
     for (int i = m - 1, d = 0; i >= 0; --i, ++d) {
       if (d < 3) {
-        ph[i] = r[2 * d][l], pj[i] = r[2 * d + 1][l];
+        ph[i] = lanes.p[2 * d][l], pj[i] = lanes.p[2 * d + 1][l];
       } else {  // the point below point i + 1
         const std::size_t slot =
             (static_cast<std::size_t>(j_start - pj[i + 1]) * W + l) * kLinkStride;
@@ -291,8 +300,7 @@ struct Sweep {
   // out as those vectors; before step s_take (column u), take(u) runs with them written back.
   template <class Take>
   void walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start, float j_start,
-              const Accumulator& out, float* links, HullTops& top, HullRegs& ah, HullRegs& aj,
-              HullRegs& bh, HullRegs& bj, HullRegs& ch, HullRegs& cj, Take take) const;
+              const Accumulator& out, float* links, HullRegisters& regs, Take take) const;
 #endif
 };
 
@@ -336,8 +344,9 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   // b = top - 2, c = top - 3): a pop needs only a and b, and the gather that refills c after a
   // pop is not on the path to the next comparison. Absent points sit at j_start + 1 (slot -1,
   // read as slot 0 and never used: `top` guards every use).
-  __m256i top[G];
-  __m256 ah[G], aj[G], bh[G], bj[G], ch[G], cj[G];
+  HullRegisters regs;
+  auto& top = regs.top;
+  auto &ah = regs.ah, &aj = regs.aj, &bh = regs.bh, &bj = regs.bj, &ch = regs.ch, &cj = regs.cj;
   for (int g = 0; g < G; ++g) {
     top[g] = _mm256_setzero_si256();
     ah[g] = bh[g] = ch[g] = _mm256_setzero_ps();
@@ -357,7 +366,7 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     const int s_kept = (u_start - keep->u) * frame.step;
     if (s_kept > 0 && s_kept <= s_keep) {
       s_begin = s_kept;
-      restore_hull(*keep, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj);
+      restore_hull(*keep, j_start, link_h, link_j, regs);
     }
   }
   // Where the hull is taken (-1: nowhere; not again where it was restored from).
@@ -413,16 +422,13 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     }
   }
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
-  walk16(sc, s_begin, steps, s_take, u_start, j_start, out, link_h, top, ah, aj, bh, bj, ch, cj,
-         [&](int u) {
-           take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
-         });
+  walk16(sc, s_begin, steps, s_take, u_start, j_start, out, link_h, regs,
+         [&](int u) { take_hull(cg, u_start, u, j_start, link_h, link_j, regs, *keep); });
 #else
   const __m256 mps = _mm256_set1_ps(frame.metres_per_step), vj_start = _mm256_set1_ps(j_start);
   const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
   for (int s = s_begin, u = u_start - s_begin * frame.step; s < steps; ++s, u -= frame.step) {
-    if (s == s_take)
-      take_hull(cg, u_start, u, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj, *keep);
+    if (s == s_take) take_hull(cg, u_start, u, j_start, link_h, link_j, regs, *keep);
     const int b0 = sc.step_b0[s];
     if (b0 + W - 1 >= 0 && b0 <= bmax) {
       const float t = sc.step_t[s];
@@ -499,8 +505,7 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   }
 #endif
   if (s_take == steps)
-    take_hull(cg, u_start, u_end - frame.step, j_start, link_h, link_j, top, ah, aj, bh, bj, ch, cj,
-              *keep);
+    take_hull(cg, u_start, u_end - frame.step, j_start, link_h, link_j, regs, *keep);
 }
 
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
@@ -551,22 +556,17 @@ constexpr __mmask16 kAll = 0xffff;
 
 template <class Take>
 void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, int u_start,
-                   float j_start, const Accumulator& out, float* links, HullTops& top, HullRegs& ah,
-                   HullRegs& aj, HullRegs& bh, HullRegs& bj, HullRegs& ch, HullRegs& cj,
+                   float j_start, const Accumulator& out, float* links, HullRegisters& regs,
                    Take take) const {
   constexpr int W = kGroupLines;
   static_assert(W == 16 && kVectors == 2);
   // Between the 8-lane registers and 512-bit ones through memory (entry, exit, a hull taken).
-  alignas(64) std::int32_t n[W];
-  alignas(64) float r[6][W];
-  HullRegs* const regs[6] = {&ah, &aj, &bh, &bj, &ch, &cj};
-  for (int g = 0; g < kVectors; ++g) {
-    _mm256_store_si256(reinterpret_cast<__m256i*>(n + 8 * g), top[g]);
-    for (int q = 0; q < 6; ++q) _mm256_store_ps(r[q] + 8 * g, (*regs[q])[g]);
-  }
-  __m512i t16 = _mm512_load_si512(n);
-  __m512 a_h = _mm512_load_ps(r[0]), a_j = _mm512_load_ps(r[1]), b_h = _mm512_load_ps(r[2]),
-         b_j = _mm512_load_ps(r[3]), c_h = _mm512_load_ps(r[4]), c_j = _mm512_load_ps(r[5]);
+  HullLanes lanes;
+  lanes.store(regs);
+  __m512i t16 = _mm512_load_si512(lanes.size);
+  __m512 a_h = _mm512_load_ps(lanes.p[0]), a_j = _mm512_load_ps(lanes.p[1]);
+  __m512 b_h = _mm512_load_ps(lanes.p[2]), b_j = _mm512_load_ps(lanes.p[3]);
+  __m512 c_h = _mm512_load_ps(lanes.p[4]), c_j = _mm512_load_ps(lanes.p[5]);
   // A fourth point, d, below c, and per lane how many of a, b, c, d are current (the rest are
   // refilled from the links only when a pop needs them: at least min(size, 3) are current).
   __m512 d_h = c_h, d_j = c_j;
@@ -574,13 +574,11 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
                 four = _mm512_set1_epi32(4);
   __m512i depth = _mm512_maskz_min_epi32(kAll, t16, three);
   auto split = [&] {  // back into the 8-lane registers
-    _mm512_store_si512(n, t16);
-    _mm512_store_ps(r[0], a_h), _mm512_store_ps(r[1], a_j), _mm512_store_ps(r[2], b_h);
-    _mm512_store_ps(r[3], b_j), _mm512_store_ps(r[4], c_h), _mm512_store_ps(r[5], c_j);
-    for (int g = 0; g < kVectors; ++g) {
-      top[g] = _mm256_load_si256(reinterpret_cast<const __m256i*>(n + 8 * g));
-      for (int q = 0; q < 6; ++q) (*regs[q])[g] = _mm256_load_ps(r[q] + 8 * g);
-    }
+    _mm512_store_si512(lanes.size, t16);
+    _mm512_store_ps(lanes.p[0], a_h), _mm512_store_ps(lanes.p[1], a_j);
+    _mm512_store_ps(lanes.p[2], b_h), _mm512_store_ps(lanes.p[3], b_j);
+    _mm512_store_ps(lanes.p[4], c_h), _mm512_store_ps(lanes.p[5], c_j);
+    lanes.load_into(regs);
   };
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   const __m512i one = _mm512_set1_epi32(1), zero_i = _mm512_setzero_si512();
