@@ -22,8 +22,10 @@ sh::Zonal<N> ClippedLogCap<N>::compute(float sin_angle, float clip) {
   v[0] = std::sqrt(4 * std::numbers::pi_v<float>) - cap[0];
   for (int l = 1; l < N; ++l) v[sh::index(l, 0)] = -cap[l];
   // M_v column by column: the truncated product of v with each basis function.
+  // Dynamic-size matrices: one eigensolver for every N (fixed K x K ones unrolled it four
+  // times, a minute of compile time); the table is built once, so speed here does not count.
   constexpr int K = N * N;
-  Eigen::Matrix<double, K, K> m;
+  Eigen::MatrixXd m(K, K);
   for (int j = 0; j < K; ++j) {
     sh::Coeffs<N> e{};
     e[j] = 1;
@@ -31,14 +33,14 @@ sh::Zonal<N> ClippedLogCap<N>::compute(float sin_angle, float clip) {
     for (int i = 0; i < K; ++i) m(i, j) = col[i];
   }
   m = 0.5 * (m + m.transpose());
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, K, K>> eig(m);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(m);
   const auto& lambda = eig.eigenvalues();
   const double floor = clip * std::max(lambda.maxCoeff(), 1e-30);  // [Ren06]: clipped eigenvalues
-  Eigen::Matrix<double, K, 1> log_lambda;
+  Eigen::VectorXd log_lambda(K);
   for (int i = 0; i < K; ++i) log_lambda(i) = std::log(std::max(lambda(i), floor));
   const auto& u = eig.eigenvectors();
   // log M applied to sqrt(4 pi) e_0: sqrt(4 pi) U diag(log lambda) (row 0 of U).
-  const Eigen::Matrix<double, K, 1> out =
+  const Eigen::VectorXd out =
       std::sqrt(4 * std::numbers::pi) * (u * log_lambda.asDiagonal() * u.row(0).transpose());
   sh::Zonal<N> z{};
   for (int l = 0; l < N; ++l) z[l] = static_cast<float>(out(sh::index(l, 0)));
