@@ -17,7 +17,7 @@
 #include "penumbra/jobs/executor.h"
 #include "valley_replay.h"
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(PENUMBRA_ASAN)  // PENUMBRA_ASAN: ../CMakeLists.txt, ASan trees
 #define PENUMBRA_ASAN 1
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)

@@ -31,7 +31,7 @@ using namespace components;
 // Under AddressSanitizer freed memory sits in a quarantine (up to 256 MiB) before reuse, so
 // resident memory grows by design: the check is reported but not asserted there (LeakSanitizer
 // checks for leaks at exit instead).
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(PENUMBRA_ASAN)  // PENUMBRA_ASAN: ../CMakeLists.txt, ASan trees
 constexpr bool kCheckResident = false;
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
