@@ -61,8 +61,8 @@ TEST(BenchChart, PointsAboveTheErrorLimitAreHollowOnTheTopEdge) {
   pb::ChartSpec s = spec();
   s.error_limit = 20;
   const std::vector<pb::ChartPoint> pts = {
-      {.ms = 2, .error_percent = 5, .series = "a", .label = "low", .key = "low"},
-      {.ms = 4, .error_percent = 37, .series = "a", .label = "high", .key = "high"}};
+      {.ms = 2, .error_percent = 5, .series = "a", .label = "low", .key = "low", .front = ""},
+      {.ms = 4, .error_percent = 37, .series = "a", .label = "high", .key = "high", .front = ""}};
   const std::string svg = pb::chart_svg(s, pts);
   EXPECT_EQ(count(svg, "fill-opacity=\"0\""), 1u);
   EXPECT_NE(svg.find("cy=\"50\""), std::string::npos);  // the plot's top edge
@@ -113,7 +113,7 @@ TEST(BenchChart, LineChartDrawsOneLinePerSeriesWithMarkersAndALegend) {
 TEST(BenchChart, LineChartWithoutPointsSaysSo) {
   pb::LineChartSpec s = line_spec();
   s.empty_text = "nothing measured";
-  const std::string svg = pb::line_chart_svg(s, {{.name = "empty"}});
+  const std::string svg = pb::line_chart_svg(s, {{.name = "empty", .x = {}, .y = {}}});
   EXPECT_NE(svg.find("nothing measured"), std::string::npos);
   EXPECT_EQ(count(svg, "<circle"), 0u);
 }

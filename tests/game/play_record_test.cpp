@@ -73,7 +73,9 @@ TEST(PlayRecord, MachineFactsAreRead) {
 // Run by the next test in a child process: fails unless the child got "yes".
 TEST(PlayRecord, ChildSeesItsEnvironment) {
   const char* v = std::getenv("PENUMBRA_CHILD_EXPECT");
-  if (v) EXPECT_STREQ(v, "yes");
+  if (v) {
+    EXPECT_STREQ(v, "yes");
+  }
 }
 
 TEST(PlayRecord, ChildRunsGetTheirEnvironmentAndReportTheirStatus) {
