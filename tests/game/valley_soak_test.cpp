@@ -17,7 +17,9 @@
 #include "penumbra/jobs/executor.h"
 #include "valley_replay.h"
 
-#if defined(__SANITIZE_ADDRESS__) || defined(PENUMBRA_ASAN)  // PENUMBRA_ASAN: ../CMakeLists.txt, ASan trees
+// PENUMBRA_ASAN: the top CMakeLists.txt defines it in ASan trees, which do not instrument
+// the test files (no __SANITIZE_ADDRESS__ there).
+#if defined(__SANITIZE_ADDRESS__) || defined(PENUMBRA_ASAN)
 #define PENUMBRA_ASAN 1
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
