@@ -211,9 +211,13 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 #endif
   // Parallel over blocks of azimuths: each task sweeps its azimuths into planes, then writes
   // them into the texels' records together (a contiguous run per texel, not one strided float
-  // per azimuth, which would touch every record's cache line once per azimuth). A task's
-  // buffers are its thread's: the body runs no nested parallel work, so no other task of this
-  // loop can start on the thread before it ends. Blocks of 16 azimuths write whole cache lines
+  // per azimuth, which would touch every record's cache line once per azimuth). The planes are
+  // the block's thread's; the block's azimuths are a parallel loop of their own, so that a
+  // thread done with its block sweeps azimuths of another (when one core runs slower than the
+  // other for a while, as a virtual machine's can: docs/terrain_shadow.md, "Eighth round"),
+  // each into the block's planes with its own scratch. That loop is isolated: a thread waiting
+  // in it runs only its azimuths, never another block, so no other block can take the thread's
+  // planes or scratch before this one ends. Blocks of 16 azimuths write whole cache lines
   // of the records, with streaming stores (texel_records); 8 write half lines, each read for
   // ownership twice. 16 from 256^2 texels (measured there and at 1024^2: docs/terrain_shadow.md,
   // "Horizons, fourth round"), while there are blocks for every thread; smaller regions (not
@@ -224,19 +228,24 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   const int blocks = (params.azimuths + block_size - 1) / block_size;
   tbb::parallel_for(0, blocks, [&](int block) {
     const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
-    SweepWorkspace::Buffers::Task& task = ws.tasks.local();
-    task.planes.resize(static_cast<std::size_t>(k1 - k0) * region.count());
-    for (int k = k0; k < k1; ++k) {
-      float* plane = task.planes.data() + (k - k0) * region.count();
+    std::vector<float>& block_planes = ws.tasks.local().planes;
+    block_planes.resize(static_cast<std::size_t>(k1 - k0) * region.count());
+    float* const planes = block_planes.data();
+    tbb::this_task_arena::isolate([&] {
+      tbb::parallel_for(tbb::blocked_range<int>(k0, k1, 1), [&](const tbb::blocked_range<int>& ks) {
+        SweepWorkspace::Buffers::Task& task = ws.tasks.local();  // this thread's scratch
+        for (int k = ks.begin(); k < ks.end(); ++k) {
+          float* plane = planes + (k - k0) * region.count();
 #ifdef __AVX2__
-      if (kernel == Kernel::kLanes) {
-        detail::sweep_azimuth_lanes(field, ws.fields, params, region, k, task.lanes, plane);
-        continue;
-      }
+          if (kernel == Kernel::kLanes) {
+            detail::sweep_azimuth_lanes(field, ws.fields, params, region, k, task.lanes, plane);
+            continue;
+          }
 #endif
-      sweep_azimuth(field, params, region, k, task.scalar, plane);
-    }
-    const float* planes = task.planes.data();
+          sweep_azimuth(field, params, region, k, task.scalar, plane);
+        }
+      });
+    });
 #ifdef __AVX2__
     detail::texel_records(planes, region.count(), region, k0, k1, out);
 #else
