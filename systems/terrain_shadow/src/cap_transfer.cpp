@@ -19,6 +19,9 @@ namespace penumbra::terrain_shadow {
 namespace {
 
 using detail::CapFrame;
+using detail::fast_atan_ratio;
+using detail::fast_cos;
+using detail::fast_sin;
 using detail::kHalfPi;
 using detail::kLanes;
 using detail::kMaxStrips;
@@ -53,6 +56,32 @@ glm::vec2 cap_horizon_direction(const LightCap& cap, int j, int count) {
 }
 
 namespace detail {
+
+float front_lens(const LightCap& cap, const glm::vec3& n, float omega) {
+  // front_lens8's operations, one lane.
+  const float rho = cap.rho, rho2 = rho * rho;
+  const float omc = rho2 / (1 + cap.cos_half);  // 1 - cos(beta), accurately
+  const float e = fast_atan_ratio(cap.sin_e, cap.cos_e);
+  const float s_hd = fast_sin(0.5f * (omega - e)), hs = 0.5f * (omega + e);
+  const float d_sin = (s_hd + s_hd) * fast_cos(hs);  // sin(omega) - sin(e)
+  const float d_cos = (s_hd + s_hd) * fast_sin(hs);  // cos(e) - cos(omega)
+  const float cos_o = fast_cos(omega);
+  const float nw = n.x * cap.plane_dir.x + n.y * cap.plane_dir.y;
+  const float nu = n.z * cap.cos_e - cap.sin_e * nw;
+  const float nc = glm::dot(n, cap.dir);
+  const float cphi =
+      std::clamp((cap.sin_e * omc + d_sin) / std::max(rho * cap.cos_e, 1e-30f), -1.0f, 1.0f);
+  const float sphi = std::sqrt(std::max((1 - cphi) * (1 + cphi), 0.0f));
+  const float phi = kHalfPi - fast_atan_ratio(cphi, sphi);
+  const float k = std::clamp((omc - (s_hd + s_hd) * s_hd) / std::max(cos_o * cap.cos_e, 1e-30f),
+                             0.0f, 2.0f);  // 1 - cos(psi)
+  const float hk = 0.5f * k;
+  const float psi = 2 * fast_atan_ratio(std::sqrt(hk), std::sqrt(1 - hk));
+  const float spsi = std::sqrt(k * (2 - k));
+  const float ends = omc * nu - d_sin * nw - d_cos * n.z;
+  const float arcs = (psi - spsi) * (cos_o * cos_o) * n.z + phi * rho2 * nc;
+  return std::max(rho * sphi * ends + arcs, 0.0f);
+}
 
 // Chords of a cap wholly in front of the tangent plane, in u (see the header): the horizon
 // bounds u by square roots alone and the chord integral of (n.w) / c0 du is
@@ -187,6 +216,9 @@ float cap_transfer(const LightCap& cap, const glm::vec3& n, const float* horizon
   if (lowest >= top) return 0;  // the horizon hides the whole cap
   const bool open = highest <= bottom;
   if (open && nc >= rho) return kPi * rho * rho * nc;  // exact: the whole cap, all in front
+
+  if (count == 1 && nc >= rho)  // a constant horizon: the lens in closed form
+    return detail::front_lens(cap, n, std::clamp(horizon[0], -kHalfPi, kHalfPi));
 
   strips = std::clamp(strips, 1, kMaxStrips);
   const std::size_t at = strip_nodes().offsets[strips];

@@ -74,6 +74,47 @@ __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, 
   return acc;
 }
 
+// front_lens on eight receivers (cap_chords.h): caps wholly in front of the tangent plane above
+// a constant horizon omega (radians, in [-pi/2, pi/2]); nw = n.w, nu = n.u_c.
+__m256 front_lens8(__m256 rho, __m256 cos_half, __m256 nc, __m256 nz, __m256 nw, __m256 nu,
+                   __m256 sin_e, __m256 cos_e, __m256 omega) {
+  const __m256 one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f);
+  const __m256 two = _mm256_set1_ps(2.0f), tiny = _mm256_set1_ps(1e-30f);
+  const __m256 rho2 = _mm256_mul_ps(rho, rho);
+  const __m256 omc = _mm256_div_ps(rho2, _mm256_add_ps(one, cos_half));  // 1 - cos(beta)
+  const __m256 e = detail::fast_atan_ratio8(sin_e, cos_e);
+  const __m256 s_hd = detail::fast_sin8(_mm256_mul_ps(half, _mm256_sub_ps(omega, e)));
+  const __m256 hs = _mm256_mul_ps(half, _mm256_add_ps(omega, e));
+  const __m256 d_sin = _mm256_mul_ps(_mm256_add_ps(s_hd, s_hd), detail::fast_cos8(hs));
+  const __m256 d_cos = _mm256_mul_ps(_mm256_add_ps(s_hd, s_hd), detail::fast_sin8(hs));  // -
+  const __m256 cos_o = detail::fast_cos8(omega);
+  const __m256 cphi =
+      _mm256_min_ps(_mm256_max_ps(_mm256_div_ps(_mm256_fmadd_ps(sin_e, omc, d_sin),
+                                                _mm256_max_ps(_mm256_mul_ps(rho, cos_e), tiny)),
+                                  _mm256_set1_ps(-1.0f)),
+                    one);
+  const __m256 sphi = _mm256_sqrt_ps(
+      _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(one, cphi), _mm256_add_ps(one, cphi)), zero));
+  const __m256 phi =
+      _mm256_sub_ps(_mm256_set1_ps(kHalfPi), detail::fast_atan_ratio8(cphi, sphi));  // acos
+  const __m256 k = _mm256_min_ps(
+      _mm256_max_ps(_mm256_div_ps(_mm256_fnmadd_ps(_mm256_add_ps(s_hd, s_hd), s_hd, omc),
+                                  _mm256_max_ps(_mm256_mul_ps(cos_o, cos_e), tiny)),
+                    zero),
+      two);  // 1 - cos(psi)
+  const __m256 hk = _mm256_mul_ps(half, k);
+  const __m256 psi = _mm256_mul_ps(
+      two, detail::fast_atan_ratio8(_mm256_sqrt_ps(hk), _mm256_sqrt_ps(_mm256_sub_ps(one, hk))));
+  const __m256 spsi = _mm256_sqrt_ps(_mm256_mul_ps(k, _mm256_sub_ps(two, k)));
+  // n.(t_h - u_c) + (1 - cos b) nu, with d_cos holding -(cos omega - cos e).
+  const __m256 ends =
+      _mm256_fnmadd_ps(d_cos, nz, _mm256_fnmadd_ps(d_sin, nw, _mm256_mul_ps(omc, nu)));
+  const __m256 arcs =
+      _mm256_fmadd_ps(_mm256_mul_ps(_mm256_sub_ps(psi, spsi), _mm256_mul_ps(cos_o, cos_o)), nz,
+                      _mm256_mul_ps(_mm256_mul_ps(phi, rho2), nc));
+  return _mm256_max_ps(_mm256_fmadd_ps(_mm256_mul_ps(rho, sphi), ends, arcs), zero);
+}
+
 // general_chords on eight receivers (caps the tangent plane cuts): chords in t, bounded by the
 // horizon and by the tangent plane's sinusoid, up to three pieces a chord (the plane's interval
 // and its two 2 pi images), each sq (nc sin t - nu cos t) + ns s t integrated in closed form.
@@ -213,9 +254,12 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
   const __m256 whole = _mm256_and_ps(open, in_front);
   const __m256 front_chords =
       _mm256_andnot_ps(_mm256_or_ps(is_wide, cut), _mm256_andnot_ps(whole, visible));
-  const __m256 need = _mm256_or_ps(front_chords, cut);
-  const __m256 other = defer_chords ? _mm256_or_ps(is_wide, need) : is_wide;
-  const __m256 chords = defer_chords ? zero : _mm256_and_ps(need, front_chords);
+  // Deferred: the lanes whose strips cost as much for one lane as for eight; a constant
+  // horizon's front caps are a closed form (front_lens8), computed here.
+  const bool lens = count == 1;
+  const __m256 strips_needed = lens ? cut : _mm256_or_ps(front_chords, cut);
+  const __m256 other = defer_chords ? _mm256_or_ps(is_wide, strips_needed) : is_wide;
+  const __m256 chords = defer_chords && !lens ? zero : front_chords;
   const __m256 cut_chords = defer_chords ? zero : cut;
   __m256 value = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(kPi), _mm256_mul_ps(rho, rho)), nc);
   const __m256 any_chords = _mm256_or_ps(chords, cut_chords);
@@ -226,8 +270,14 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     const __m256 pdx = _mm256_blendv_ps(one, _mm256_mul_ps(dx, inv_plane), has_plane);
     const __m256 pdy = _mm256_and_ps(has_plane, _mm256_mul_ps(dy, inv_plane));
     const __m256 ns = _mm256_fmsub_ps(ny, pdx, _mm256_mul_ps(nx, pdy));
-    const __m256 nu = _mm256_fmsub_ps(
-        nz, cos_e, _mm256_mul_ps(sin_e, _mm256_fmadd_ps(ny, pdy, _mm256_mul_ps(nx, pdx))));
+    const __m256 nw = _mm256_fmadd_ps(ny, pdy, _mm256_mul_ps(nx, pdx));
+    const __m256 nu = _mm256_fmsub_ps(nz, cos_e, _mm256_mul_ps(sin_e, nw));
+    __m256 lens_value = zero;
+    if (lens && !_mm256_testz_ps(chords, chords)) {
+      const __m256 omega = _mm256_min_ps(
+          _mm256_max_ps(_mm256_loadu_ps(in.horizon[0]), _mm256_sub_ps(zero, half_pi)), half_pi);
+      lens_value = front_lens8(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega);
+    }
     // The horizon along each chord: linear in tau = cos(psi) between the samples, as
     // cap_transfer (the weights depend on the chord only); open: -1.
     __m256 chord_a[kMaxStrips];
@@ -247,7 +297,7 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
       chord_a[j] = _mm256_blendv_ps(a, minus_one, open);
     }
     __m256 sum = zero;
-    if (!_mm256_testz_ps(chords, chords))
+    if (!lens && !_mm256_testz_ps(chords, chords))
       sum = front_chords8(rho, nc, ns, nu, sin_e, cos_e, chord_a, strips);
     if (!_mm256_testz_ps(cut_chords, cut_chords))
       sum = _mm256_blendv_ps(
@@ -257,6 +307,7 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
         _mm256_mul_ps(sum, _mm256_mul_ps(rho, _mm256_set1_ps(kPi / static_cast<float>(strips)))),
         zero);
     value = _mm256_blendv_ps(value, scaled, any_chords);
+    if (lens) value = _mm256_blendv_ps(value, lens_value, chords);
   }
   _mm256_storeu_ps(e, _mm256_and_ps(_mm256_andnot_ps(other, visible), value));
   return static_cast<unsigned>(_mm256_movemask_ps(other));

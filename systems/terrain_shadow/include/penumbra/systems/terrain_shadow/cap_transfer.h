@@ -19,8 +19,11 @@
 // is taken constant along a chord, at the azimuth of the chord's centre (u = 0), and linear in
 // s between the horizon samples (sin of the angle interpolated; constant beyond the outer
 // samples). Fast paths: horizon below the whole cap and cap above the tangent plane: pi rho^2
-// (n.c), exact; horizon above the whole cap: 0. Caps that contain the zenith take every chord
-// at its centre's azimuth (near receivers under a light, which the horizon rarely reaches).
+// (n.c), exact; horizon above the whole cap: 0; one horizon sample (a constant horizon) and the
+// cap above the tangent plane: the lens between the cap's circle and the horizon's, exact in
+// closed form (two arcs' boundary integrals, no strips; the light's common case). Caps that
+// contain the zenith take every chord at its centre's azimuth (near receivers under a light,
+// which the horizon rarely reaches).
 //
 // Threading: pure functions.
 #pragma once
@@ -53,9 +56,10 @@ glm::vec2 cap_horizon_direction(const LightCap& cap, int j, int count);
 // int_cap V(w) max(0, n.w) dw (steradians; E = radiance * this), with V = 1 above the horizon
 // given by `horizon[j]` (elevation, radians) at cap_horizon_direction(cap, j, count), `normal`
 // unit. 1 <= count <= kMaxCapHorizons; strips is clamped to [1, kMaxCapStrips]. Against a fine
-// quadrature with a constant horizon (light_shading_test.cpp), in units of pi rho^2: caps under
-// 3.4 degrees away from the zenith within 2.8e-3 with 8 strips; any cap (up to 70 degrees,
-// around the zenith, cut by the tangent plane) within 3e-2 with 8 strips, 1.7e-3 with 64.
+// quadrature with a constant horizon (light_shading_test.cpp), in units of pi rho^2: caps in
+// front of the tangent plane (closed form) within 3.5e-4, the quadrature's own accuracy; any
+// cap (up to 70 degrees, around the zenith, cut by the tangent plane) within 3e-2 with 8
+// strips, 1.6e-3 with 64.
 inline constexpr int kMaxCapStrips = 64;
 float cap_transfer(const LightCap& cap, const glm::vec3& normal, const float* horizon, int count,
                    int strips = 8);
@@ -66,11 +70,12 @@ float cap_transfer(const LightCap& cap, const glm::vec3& normal, const float* ho
 // make_light_cap and cap_transfer give (to float rounding, within 2e-5 pi rho^2: tested): 0 for
 // a receiver inside the light, behind its tangent plane (n.d <= -radius) or under a horizon
 // above the whole cap, pi rho^2 (n.c) for a cap wholly above the horizon and the tangent plane,
-// else its chords (all lanes at once, one chord a step). Bit l set: a cap with rho >= `wide`
-// (the caller may take more horizon samples for it and pass it again with `wide` infinite),
-// and with `defer_chords` every lane that needs chords (they cost the same for one lane as for
-// eight, so a caller gathers them and passes them again). AVX2 where the build has it; per lane
-// through cap_transfer otherwise (deferring every lit lane).
+// else its lens (count 1, in front of the tangent plane) or its chords (all lanes at once, one
+// chord a step). Bit l set: a cap with rho >= `wide` (the caller may take more horizon samples
+// for it and pass it again with `wide` infinite), and with `defer_chords` every lane that
+// needs chords (they cost the same for one lane as for eight, so a caller gathers them and
+// passes them again). AVX2 where the build has it; per lane through cap_transfer otherwise
+// (deferring every lit lane).
 struct CapLanes {
   float dx[8], dy[8], dz[8], nx[8], ny[8], nz[8];
   float horizon[kMaxCapHorizons][8];
