@@ -61,11 +61,8 @@ float front_lens(const LightCap& cap, const glm::vec3& n, float omega) {
   // front_lens8's operations, one lane.
   const float rho = cap.rho, rho2 = rho * rho;
   const float omc = rho2 / (1 + cap.cos_half);  // 1 - cos(beta), accurately
-  const float e = fast_atan_ratio(cap.sin_e, cap.cos_e);
-  const float s_hd = fast_sin(0.5f * (omega - e)), hs = 0.5f * (omega + e);
-  const float d_sin = (s_hd + s_hd) * fast_cos(hs);  // sin(omega) - sin(e)
-  const float d_cos = (s_hd + s_hd) * fast_sin(hs);  // cos(e) - cos(omega)
   const float cos_o = fast_cos(omega);
+  const float d_sin = fast_sin(omega) - cap.sin_e, d_cos = cap.cos_e - cos_o;
   const float nw = n.x * cap.plane_dir.x + n.y * cap.plane_dir.y;
   const float nu = n.z * cap.cos_e - cap.sin_e * nw;
   const float nc = glm::dot(n, cap.dir);
@@ -73,8 +70,9 @@ float front_lens(const LightCap& cap, const glm::vec3& n, float omega) {
       std::clamp((cap.sin_e * omc + d_sin) / std::max(rho * cap.cos_e, 1e-30f), -1.0f, 1.0f);
   const float sphi = std::sqrt(std::max((1 - cphi) * (1 + cphi), 0.0f));
   const float phi = kHalfPi - fast_atan_ratio(cphi, sphi);
-  const float k = std::clamp((omc - (s_hd + s_hd) * s_hd) / std::max(cos_o * cap.cos_e, 1e-30f),
-                             0.0f, 2.0f);  // 1 - cos(psi)
+  const float chord2 = d_sin * d_sin + d_cos * d_cos;  // cos(omega - e) = 1 - chord2 / 2
+  const float k = std::clamp((omc - 0.5f * chord2) / std::max(cos_o * cap.cos_e, 1e-30f), 0.0f,
+                             2.0f);  // 1 - cos(psi)
   const float hk = 0.5f * k;
   const float psi = 2 * fast_atan_ratio(std::sqrt(hk), std::sqrt(1 - hk));
   const float spsi = std::sqrt(k * (2 - k));

@@ -75,19 +75,16 @@ __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, 
 }
 
 // front_lens on eight receivers (cap_chords.h): caps wholly in front of the tangent plane above
-// a constant horizon omega (radians, in [-pi/2, pi/2]); nw = n.w, nu = n.u_c.
+// a constant horizon omega (radians, in [-pi/2, pi/2]) whose sine is sin_o; nw = n.w, nu = n.u_c.
 __m256 front_lens8(__m256 rho, __m256 cos_half, __m256 nc, __m256 nz, __m256 nw, __m256 nu,
-                   __m256 sin_e, __m256 cos_e, __m256 omega) {
+                   __m256 sin_e, __m256 cos_e, __m256 omega, __m256 sin_o) {
   const __m256 one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f);
   const __m256 two = _mm256_set1_ps(2.0f), tiny = _mm256_set1_ps(1e-30f);
   const __m256 rho2 = _mm256_mul_ps(rho, rho);
   const __m256 omc = _mm256_div_ps(rho2, _mm256_add_ps(one, cos_half));  // 1 - cos(beta)
-  const __m256 e = detail::fast_atan_ratio8(sin_e, cos_e);
-  const __m256 s_hd = detail::fast_sin8(_mm256_mul_ps(half, _mm256_sub_ps(omega, e)));
-  const __m256 hs = _mm256_mul_ps(half, _mm256_add_ps(omega, e));
-  const __m256 d_sin = _mm256_mul_ps(_mm256_add_ps(s_hd, s_hd), detail::fast_cos8(hs));
-  const __m256 d_cos = _mm256_mul_ps(_mm256_add_ps(s_hd, s_hd), detail::fast_sin8(hs));  // -
   const __m256 cos_o = detail::fast_cos8(omega);
+  const __m256 d_sin = _mm256_sub_ps(sin_o, sin_e), d_cos = _mm256_sub_ps(cos_e, cos_o);
+  // cos(phi) = (sin_o - cos(beta) sin_e) / (rho cos_e).
   const __m256 cphi =
       _mm256_min_ps(_mm256_max_ps(_mm256_div_ps(_mm256_fmadd_ps(sin_e, omc, d_sin),
                                                 _mm256_max_ps(_mm256_mul_ps(rho, cos_e), tiny)),
@@ -97,16 +94,19 @@ __m256 front_lens8(__m256 rho, __m256 cos_half, __m256 nc, __m256 nz, __m256 nw,
       _mm256_max_ps(_mm256_mul_ps(_mm256_sub_ps(one, cphi), _mm256_add_ps(one, cphi)), zero));
   const __m256 phi =
       _mm256_sub_ps(_mm256_set1_ps(kHalfPi), detail::fast_atan_ratio8(cphi, sphi));  // acos
-  const __m256 k = _mm256_min_ps(
-      _mm256_max_ps(_mm256_div_ps(_mm256_fnmadd_ps(_mm256_add_ps(s_hd, s_hd), s_hd, omc),
-                                  _mm256_max_ps(_mm256_mul_ps(cos_o, cos_e), tiny)),
-                    zero),
-      two);  // 1 - cos(psi)
+  // 1 - cos(psi) = (cos(omega - e) - cos(beta)) / (cos_o cos_e), cos(omega - e) = 1 - (d_sin^2
+  // + d_cos^2) / 2.
+  const __m256 chord2 = _mm256_fmadd_ps(d_sin, d_sin, _mm256_mul_ps(d_cos, d_cos));
+  const __m256 k =
+      _mm256_min_ps(_mm256_max_ps(_mm256_div_ps(_mm256_fnmadd_ps(half, chord2, omc),
+                                                _mm256_max_ps(_mm256_mul_ps(cos_o, cos_e), tiny)),
+                                  zero),
+                    two);
   const __m256 hk = _mm256_mul_ps(half, k);
   const __m256 psi = _mm256_mul_ps(
       two, detail::fast_atan_ratio8(_mm256_sqrt_ps(hk), _mm256_sqrt_ps(_mm256_sub_ps(one, hk))));
   const __m256 spsi = _mm256_sqrt_ps(_mm256_mul_ps(k, _mm256_sub_ps(two, k)));
-  // n.(t_h - u_c) + (1 - cos b) nu, with d_cos holding -(cos omega - cos e).
+  // n.(t_h - u_c) + (1 - cos b) nu.
   const __m256 ends =
       _mm256_fnmadd_ps(d_cos, nz, _mm256_fnmadd_ps(d_sin, nw, _mm256_mul_ps(omc, nu)));
   const __m256 arcs =
@@ -276,7 +276,7 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     if (lens && !_mm256_testz_ps(chords, chords)) {
       const __m256 omega = _mm256_min_ps(
           _mm256_max_ps(_mm256_loadu_ps(in.horizon[0]), _mm256_sub_ps(zero, half_pi)), half_pi);
-      lens_value = front_lens8(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega);
+      lens_value = front_lens8(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega, sh[0]);
     }
     // The horizon along each chord: linear in tau = cos(psi) between the samples, as
     // cap_transfer (the weights depend on the chord only); open: -1.
@@ -285,7 +285,8 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     const float* cos_psi = sn.cos_psi.data() + sn.offsets[strips];
     const float* tau = nodes().tau[count].data();
     const __m256 minus_one = _mm256_set1_ps(-1.0f);
-    for (int j = 0; j < strips; ++j) {
+    const bool any_strips = !lens || !_mm256_testz_ps(cut_chords, cut_chords);
+    for (int j = 0; j < (any_strips ? strips : 0); ++j) {
       __m256 a = sh[0];
       if (count > 1) {
         const float c = cos_psi[j];
