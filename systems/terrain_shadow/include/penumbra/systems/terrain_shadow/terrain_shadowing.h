@@ -109,7 +109,9 @@ struct TerrainShadowConfig {
   // other the sweep's single one; kMarch and kRays take cap_horizons everywhere. Why 0.2:
   // docs/terrain_shadow.md ("Light shading, measured").
   float cap_wide = 0.2f;
-  int cap_strips = 8;       // kCapHorizon: chords of the cap integral, 1..kMaxCapStrips
+  // kCapHorizon: chords of the cap integral, 1..kMaxCapStrips, for caps the tangent plane cuts
+  // and caps whose horizon varies; one horizon in front of the plane is closed-form (no strips).
+  int cap_strips = 8;
   PyramidParams pyramid{};  // for kMarch
   MarchParams march{};      // for kMarch
   int table_resolution = 64;
