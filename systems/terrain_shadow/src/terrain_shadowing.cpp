@@ -17,6 +17,10 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#ifdef __AVX2__
+#include <immintrin.h>
+#endif
+
 #include "fast_math.h"
 #include "penumbra/systems/terrain_shadow/cap_transfer.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
@@ -81,6 +85,36 @@ const char* to_string(LightShading s) {
 }
 
 namespace {
+
+// out += radiance e, by multiply-adds (add_lit8's floats).
+void add_lit(const glm::vec3& radiance, float e, glm::vec3& out) {
+  out = {std::fma(radiance.x, e, out.x), std::fma(radiance.y, e, out.y),
+         std::fma(radiance.z, e, out.z)};
+}
+
+// add_lit on eight consecutive texels (24 packed floats) with three vector multiply-adds; a
+// lane with e = 0 adds nothing, as add_lit's caller skips it.
+void add_lit8(const glm::vec3& radiance, const float* e, glm::vec3* out) {
+#ifdef __AVX2__
+  float* o = &out[0].x;
+  const __m256 ev = _mm256_loadu_ps(e);
+  const __m256 r0 = _mm256_setr_ps(radiance.x, radiance.y, radiance.z, radiance.x, radiance.y,
+                                   radiance.z, radiance.x, radiance.y);
+  const __m256 r1 = _mm256_setr_ps(radiance.z, radiance.x, radiance.y, radiance.z, radiance.x,
+                                   radiance.y, radiance.z, radiance.x);
+  const __m256 r2 = _mm256_setr_ps(radiance.y, radiance.z, radiance.x, radiance.y, radiance.z,
+                                   radiance.x, radiance.y, radiance.z);
+  const __m256 e0 = _mm256_permutevar8x32_ps(ev, _mm256_setr_epi32(0, 0, 0, 1, 1, 1, 2, 2));
+  const __m256 e1 = _mm256_permutevar8x32_ps(ev, _mm256_setr_epi32(2, 3, 3, 3, 4, 4, 4, 5));
+  const __m256 e2 = _mm256_permutevar8x32_ps(ev, _mm256_setr_epi32(5, 5, 6, 6, 6, 7, 7, 7));
+  _mm256_storeu_ps(o, _mm256_fmadd_ps(r0, e0, _mm256_loadu_ps(o)));
+  _mm256_storeu_ps(o + 8, _mm256_fmadd_ps(r1, e1, _mm256_loadu_ps(o + 8)));
+  _mm256_storeu_ps(o + 16, _mm256_fmadd_ps(r2, e2, _mm256_loadu_ps(o + 16)));
+#else
+  for (int l = 0; l < 8; ++l)
+    if (e[l] > 0) add_lit(radiance, e[l], out[l]);
+#endif
+}
 
 TerrainShadowConfig checked(const TerrainShadowConfig& c) {
   if (c.azimuths < 3 || c.light_azimuths < 3)
@@ -510,7 +544,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       cap_transfer8(batch, radius, std::numeric_limits<float>::infinity(), config_.cap_strips,
                     false, e);
       for (int l = 0; l < queued; ++l)
-        if (e[l] > 0) irradiance[qu.at[l]] += radiance * e[l];
+        if (e[l] > 0) add_lit(radiance, e[l], irradiance[qu.at[l]]);
       qu.queued = 0;
       qu.varied = false;
     };
@@ -581,11 +615,16 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         float e[8];
         const unsigned other =
             cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, true, e);
+        glm::vec3* out = irradiance.data() + static_cast<std::size_t>(y) * f.width + x0;
+        if (n == 8 && other == 0) {
+          add_lit8(radiance, e, out);
+          continue;
+        }
         for (int l = 0; l < n; ++l) {
           if (other >> l & 1u)
             enqueue(lanes, l, x0 + l, y);
           else if (e[l] > 0)
-            irradiance[static_cast<std::size_t>(y) * f.width + x0 + l] += radiance * e[l];
+            add_lit(radiance, e[l], out[l]);
         }
       }
     }
