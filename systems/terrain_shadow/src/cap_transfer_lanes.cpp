@@ -197,11 +197,14 @@ __m256 general_chords8(__m256 rho, __m256 cos_half, __m256 nc, __m256 ns, __m256
 }  // namespace
 #endif
 
-unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
-                       float* e) {
-  strips = std::clamp(strips, 1, kMaxStrips);
-  const int count = std::clamp(in.count, 1, kMaxCapHorizons);
 #ifdef __AVX2__
+namespace {
+
+// cap_transfer8's lanes. kFirstPass: one horizon sample and chords deferred (a light's pass over
+// every texel), compiled without the strips.
+template <bool kFirstPass>
+unsigned cap_lanes8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
+                    int count, float* e) {
   const __m256 dx = _mm256_loadu_ps(in.dx), dy = _mm256_loadu_ps(in.dy),
                dz = _mm256_loadu_ps(in.dz);
   const __m256 nx = _mm256_loadu_ps(in.nx), ny = _mm256_loadu_ps(in.ny),
@@ -256,7 +259,8 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
       _mm256_andnot_ps(_mm256_or_ps(is_wide, cut), _mm256_andnot_ps(whole, visible));
   // Deferred: the lanes whose strips cost as much for one lane as for eight; a constant
   // horizon's front caps are a closed form (front_lens8), computed here.
-  const bool lens = count == 1;
+  const bool lens = kFirstPass || count == 1;
+  if constexpr (kFirstPass) defer_chords = true;
   const __m256 strips_needed = lens ? cut : _mm256_or_ps(front_chords, cut);
   const __m256 other = defer_chords ? _mm256_or_ps(is_wide, strips_needed) : is_wide;
   const __m256 chords = defer_chords && !lens ? zero : front_chords;
@@ -285,7 +289,7 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
     const float* cos_psi = sn.cos_psi.data() + sn.offsets[strips];
     const float* tau = nodes().tau[count].data();
     const __m256 minus_one = _mm256_set1_ps(-1.0f);
-    const bool any_strips = !lens || !_mm256_testz_ps(cut_chords, cut_chords);
+    const bool any_strips = !kFirstPass && (!lens || !_mm256_testz_ps(cut_chords, cut_chords));
     for (int j = 0; j < (any_strips ? strips : 0); ++j) {
       __m256 a = sh[0];
       if (count > 1) {
@@ -298,9 +302,9 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
       chord_a[j] = _mm256_blendv_ps(a, minus_one, open);
     }
     __m256 sum = zero;
-    if (!lens && !_mm256_testz_ps(chords, chords))
+    if (!kFirstPass && !lens && !_mm256_testz_ps(chords, chords))
       sum = front_chords8(rho, nc, ns, nu, sin_e, cos_e, chord_a, strips);
-    if (!_mm256_testz_ps(cut_chords, cut_chords))
+    if (!kFirstPass && !_mm256_testz_ps(cut_chords, cut_chords))
       sum = _mm256_blendv_ps(
           sum, general_chords8(rho, cos_half, nc, ns, nu, sin_e, cos_e, chord_a, strips),
           cut_chords);
@@ -312,6 +316,19 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
   }
   _mm256_storeu_ps(e, _mm256_and_ps(_mm256_andnot_ps(other, visible), value));
   return static_cast<unsigned>(_mm256_movemask_ps(other));
+}
+
+}  // namespace
+#endif
+
+unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
+                       float* e) {
+  strips = std::clamp(strips, 1, kMaxStrips);
+  const int count = std::clamp(in.count, 1, kMaxCapHorizons);
+#ifdef __AVX2__
+  return count == 1 && defer_chords
+             ? cap_lanes8<true>(in, radius, wide, strips, true, 1, e)
+             : cap_lanes8<false>(in, radius, wide, strips, defer_chords, count, e);
 #else
   unsigned other = 0;
   for (int l = 0; l < 8; ++l) {
