@@ -106,15 +106,14 @@ inline ChordBounds chord_bounds8(__m256 a, __m256 q, __m256 h, __m256 sin_e, __m
 // bounded by an arc of the cap's circle (axis c, angular radius b, sin b = rho) and an arc of
 // the horizon's (axis z, radius pi/2 - omega), and int n.w dw = n . (1/2) oint w x dw along
 // the two arcs [Arvo95] (Stokes). An arc of half-angle phi of a circle (axis a, radius b)
-// centred on in-plane direction p gives (1/2) int w x dw = phi sin^2 b a - sin(phi) sin b cos b
-// (a x (a x p)) . With w the centre's plane direction, u_c = cos e z - sin e w (up at the
-// centre) and t_h = cos(omega) z - sin(omega) w (up at the horizon), the two arcs' first-order
+// centred on the unit in-plane direction p gives (1/2) int w x dw = phi sin^2 b a - sin(phi)
+// sin b cos b p. With h the centre's horizontal direction, u_c = cos e z - sin e h (up at the
+// centre) and t_h = cos(omega) z - sin(omega) h (up at the horizon), the two arcs' first-order
 // parts share the chord's half-length l = rho sin(phi) = cos(omega) sin(psi), so they are
 // written as l times a difference of nearby unit vectors (no cancellation for small caps):
 //   phi rho^2 nc + (psi - sin psi) cos^2(omega) nz + l (n.(t_h - u_c) + (1 - cos b) n.u_c),
-// where cos(phi) and cos(psi) say where the circles meet (clamped: one circle wholly inside or
-// outside the other), and sin(omega) - sin(e), cos(omega) - cos(e) are taken by half-angle
-// products.
+// with t_h - u_c = (cos(omega) - cos e) z - (sin(omega) - sin e) h, and cos(phi), cos(psi)
+// from where the circles meet (clamped: one circle wholly inside or outside the other).
 float front_lens(const LightCap& cap, const glm::vec3& n, float omega);
 
 // The chord integrals of one receiver's cap (cap_transfer.cpp): caps wholly in front of the

@@ -75,7 +75,7 @@ __m256 front_chords8(__m256 rho, __m256 nc, __m256 ns, __m256 nu, __m256 sin_e, 
 }
 
 // front_lens on eight receivers (cap_chords.h): caps wholly in front of the tangent plane above
-// a constant horizon omega (radians, in [-pi/2, pi/2]) whose sine is sin_o; nw = n.w, nu = n.u_c.
+// a constant horizon omega (radians, in [-pi/2, pi/2]) whose sine is sin_o; nw = n.h, nu = n.u_c.
 __m256 front_lens8(__m256 rho, __m256 cos_half, __m256 nc, __m256 nz, __m256 nw, __m256 nu,
                    __m256 sin_e, __m256 cos_e, __m256 omega, __m256 sin_o) {
   const __m256 one = _mm256_set1_ps(1.0f), zero = _mm256_setzero_ps(), half = _mm256_set1_ps(0.5f);
@@ -260,11 +260,11 @@ unsigned cap_lanes8(const CapLanes& in, float radius, float wide, int strips, bo
   // Deferred: the lanes whose strips cost as much for one lane as for eight; a constant
   // horizon's front caps are a closed form (front_lens8), computed here.
   const bool lens = kFirstPass || count == 1;
-  if constexpr (kFirstPass) defer_chords = true;
+  const bool defer = kFirstPass || defer_chords;
   const __m256 strips_needed = lens ? cut : _mm256_or_ps(front_chords, cut);
-  const __m256 other = defer_chords ? _mm256_or_ps(is_wide, strips_needed) : is_wide;
-  const __m256 chords = defer_chords && !lens ? zero : front_chords;
-  const __m256 cut_chords = defer_chords ? zero : cut;
+  const __m256 other = defer ? _mm256_or_ps(is_wide, strips_needed) : is_wide;
+  const __m256 chords = defer && !lens ? zero : front_chords;
+  const __m256 cut_chords = defer ? zero : cut;
   __m256 value = _mm256_mul_ps(_mm256_mul_ps(_mm256_set1_ps(kPi), _mm256_mul_ps(rho, rho)), nc);
   const __m256 any_chords = _mm256_or_ps(chords, cut_chords);
   if (!_mm256_testz_ps(any_chords, any_chords)) {
