@@ -714,6 +714,11 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
         }
         const __m256 a = _mm256_loadu_ps(acc + q);
         _mm256_storeu_ps(acc + q, _mm256_setzero_ps());
+        // Inside the field the weight is t + (1 - t), which rounds to 1 (a / 1 = a: no division).
+        if (!edge && _mm256_cvtss_f32(b) == 1.0f) {
+          m[i] = a;
+          continue;
+        }
         m[i] =
             _mm256_and_ps(_mm256_div_ps(a, b), _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_GT_OQ));
       }

@@ -1,0 +1,31 @@
+// The radial sweep's lane kernel compiled again for AVX-512 (x86-64-v4 subsets), as
+// sweep_lanes_avx512.cpp does for the line sweep: one source (radial_sweep_lanes.cpp), its walk
+// on mask registers with a fourth hull point and paired links, in namespace detail::avx512;
+// sweep_radial_group_lanes chooses between the copies at run time (sweep_isa()). The headers
+// with out-of-line inline functions come first, compiled for the baseline.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+#include "radial_sweep_lanes.h"
+#include "sweep_lanes.h"
+
+#ifdef __AVX2__
+#ifdef __clang__  // clang has no GCC target pragma; its attribute pragma does the same here
+#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512bw,avx512dq"))), \
+                             apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq")
+#endif
+#include <immintrin.h>
+
+#define PENUMBRA_RADIAL_LANES_AVX512
+#include "radial_sweep_lanes.cpp"  // one source, two targets
+#ifdef __clang__
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#endif
