@@ -152,8 +152,25 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
                                         _mm256_mullo_epi32(vi, stride_v));
     const __m256i i1 = _mm256_add_epi32(
         i0, _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(fv, zero, _CMP_GT_OQ)), stride_v));
-    const __m256 s0 = _mm256_i32gather_ps(g.heights, i0, 4);
-    const __m256 s1 = _mm256_i32gather_ps(g.heights, i1, 4);
+    __m256 s0, s1;
+#ifdef PENUMBRA_RADIAL_LANES_AVX512
+    if (g.stride_v == 1 && g.size_v >= 2) {
+      // A lane's two samples side by side: one 64-bit gather element, taken one sample earlier
+      // on the minor axis's last sample (its right neighbour lies past the row; fv = 0 there).
+      const __mmask8 last = _mm256_cmpeq_epi32_mask(vi, v_last);
+      const __m512i pair = _mm512_mask_i32gather_epi64(
+          _mm512_setzero_si512(), 0xff, _mm256_mask_sub_epi32(i0, last, i0, one), g.heights, 4);
+      const __m256 left = _mm256_castsi256_ps(_mm512_maskz_cvtepi64_epi32(0xff, pair));
+      const __m256 right = _mm256_castsi256_ps(
+          _mm512_maskz_cvtepi64_epi32(0xff, _mm512_maskz_srli_epi64(0xff, pair, 32)));
+      s0 = _mm256_mask_blend_ps(last, left, right);
+      s1 = _mm256_mask_blend_ps(_mm256_cmp_ps_mask(fv, zero, _CMP_GT_OQ), s0, right);
+    } else
+#endif
+    {
+      s0 = _mm256_i32gather_ps(g.heights, i0, 4);
+      s1 = _mm256_i32gather_ps(g.heights, i1, 4);
+    }
     const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k - lo) * L;
     _mm256_storeu_ps(
         sc.h.data() + at,
