@@ -309,6 +309,57 @@ TEST(HorizonSweep, EditsInTurnResumeFromKeptHullsBitForBit) {
   }
 }
 
+TEST(HorizonSweep, ASoleWritersEditsOfOneRectangleEqualAPlainWorkspacesAndAFullSweep) {
+  // With SweepWorkspace::set_sole_writer an edit keeps the values it recomputed along each
+  // azimuth's lines, and the next edit of the same rectangle compares with those instead of the
+  // grid's records. One box edited in turn (raised, lowered, left as it was), another box
+  // between, then the first again: each result and its changed flags equal those of a workspace
+  // without the setting, and the horizons equal a full sweep, bit for bit.
+  auto [f, p, ws, edited] = swept(64, 21, 24);
+  ws.set_sole_writer(true);
+  SweepWorkspace plain_ws;
+  HorizonGrid plain = edited;
+  const TexelRect b{28, 30, 36, 37}, c{30, 33, 34, 35};
+  const std::pair<TexelRect, float> steps[] = {{b, 4.0f},  {b, -6.0f}, {b, 0.0f}, {b, 2.5f},
+                                               {c, -3.0f}, {b, 1.0f},  {b, -1.0f}};
+  int changed_texels = 0;
+  for (const auto& [box, dh] : steps) {
+    raise_box(f, box, dh);
+    std::vector<unsigned char> kept_flags, plain_flags;
+    sweep_horizons_through(f, p, box, plain, plain_flags, plain_ws);
+    ASSERT_TRUE(edit_equals_full_sweep(f, p, ws, edited, box)) << "dh " << dh;
+    kept_flags.clear();
+    sweep_horizons_through(f, p, box, edited, kept_flags, ws);  // again: nothing changes
+    ASSERT_EQ(std::count(kept_flags.begin(), kept_flags.end(), 1), 0) << "dh " << dh;
+    ASSERT_EQ(edited.angles, plain.angles) << "dh " << dh;
+    changed_texels += static_cast<int>(std::count(plain_flags.begin(), plain_flags.end(), 1));
+  }
+  EXPECT_GT(changed_texels, 500);
+}
+
+TEST(HorizonSweep, AGridResetBetweenEditsStaysExactUnlessTheWorkspaceIsTheSoleWriter) {
+  // Without the setting an edit compares with the grid's records, so a grid copy-assigned back
+  // to its state before an edit (the same buffer) and edited again is exact; a workspace
+  // assigned over drops the values its edits kept, so a sole writer's owner that is assigned
+  // (grid and workspace together, as TerrainShadowing's members) stays exact too.
+  for (const bool sole : {false, true}) {
+    auto [f, p, ws, edited] = swept(48, 5, 16);
+    ws.set_sole_writer(sole);
+    const HorizonGrid before = edited;
+    const TexelRect b{20, 20, 26, 25};
+    raise_box(f, b, 5.0f);
+    std::vector<unsigned char> changed;
+    sweep_horizons_through(f, p, b, edited, changed, ws);
+    edited = before;
+    if (sole) {
+      SweepWorkspace other;
+      other.set_sole_writer(true);
+      ws = other;
+    }
+    ASSERT_TRUE(edit_equals_full_sweep(f, p, ws, edited, b)) << "sole writer " << sole;
+  }
+}
+
 TEST(HorizonSweep, EditsAtTheBordersAndOfOneTexelEqualAFullSweep) {
   // The lines an edit recomputes are those whose samples read its rows at its columns, and the
   // texels either side of them: edits on the field's corners and edges, one texel wide, and a

@@ -175,6 +175,7 @@ struct SweepWorkspace::Buffers {
   // Per azimuth, the line groups' hulls that edits left (sweep_lanes.h, GroupHull): valid for
   // `fields` as it is and these params; any other sweep with this workspace clears them.
   std::vector<std::vector<detail::GroupHull>> edit_hulls;
+  std::vector<detail::EditBand> edit_bands;  // per azimuth; cleared with the hulls
   int hulls_azimuths = 0;
   float hulls_scale = 0;
 #endif
@@ -184,7 +185,15 @@ SweepWorkspace::SweepWorkspace() : buffers_(std::make_unique<Buffers>()) {}
 SweepWorkspace::~SweepWorkspace() = default;
 SweepWorkspace::SweepWorkspace(SweepWorkspace&&) noexcept = default;
 SweepWorkspace& SweepWorkspace::operator=(SweepWorkspace&&) noexcept = default;
-SweepWorkspace::SweepWorkspace(const SweepWorkspace&) : buffers_(std::make_unique<Buffers>()) {}
+SweepWorkspace::SweepWorkspace(const SweepWorkspace& other)
+    : buffers_(std::make_unique<Buffers>()), sole_writer_(other.sole_writer_) {}
+SweepWorkspace& SweepWorkspace::operator=(const SweepWorkspace& other) {
+  sole_writer_ = other.sole_writer_;
+#ifdef __AVX2__
+  if (buffers_) buffers_->edit_bands.clear();  // the grid they mirror is being reassigned
+#endif
+  return *this;
+}
 SweepWorkspace::Buffers& SweepWorkspace::buffers() {
   if (!buffers_) buffers_ = std::make_unique<Buffers>();
   return *buffers_;
@@ -206,6 +215,7 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 #ifdef __AVX2__
   if (kernel == Kernel::kLanes) ws.fields.assign(field);
   ws.edit_hulls.clear();  // kept for the fields they were taken on
+  ws.edit_bands.clear();  // the records they mirror are rewritten
 #else
   kernel = Kernel::kScalar;
 #endif
@@ -318,17 +328,19 @@ std::size_t sweep_horizons_through(const data::HeightField& field, const Horizon
   if ((!diff.empty() && (diff.x0 < edited.x0 || diff.y0 < edited.y0 || diff.x1 > edited.x1 ||
                          diff.y1 > edited.y1)) ||
       ws.hulls_azimuths != params.azimuths || ws.hulls_scale != params.height_scale)
-    ws.edit_hulls.clear();
+    ws.edit_hulls.clear(), ws.edit_bands.clear();
   ws.edit_hulls.resize(static_cast<std::size_t>(params.azimuths));
+  ws.edit_bands.resize(static_cast<std::size_t>(params.azimuths));
   ws.hulls_azimuths = params.azimuths;
   ws.hulls_scale = params.height_scale;
   std::atomic<std::size_t> pairs{0};
   // Each thread's scratch (its accumulators are field-sized), as sweep()'s tasks; each azimuth
   // its own hulls.
   tbb::parallel_for(0, params.azimuths, [&](int k) {
-    pairs += detail::sweep_azimuth_lines_through(field, ws.fields, params, edited, k,
-                                                 ws.tasks.local().lanes, out, changed.data(),
-                                                 &ws.edit_hulls[static_cast<std::size_t>(k)]);
+    pairs += detail::sweep_azimuth_lines_through(
+        field, ws.fields, params, edited, k, ws.tasks.local().lanes, out, changed.data(),
+        &ws.edit_hulls[static_cast<std::size_t>(k)],
+        workspace.sole_writer() ? &ws.edit_bands[static_cast<std::size_t>(k)] : nullptr);
   });
   return pairs;
 #else

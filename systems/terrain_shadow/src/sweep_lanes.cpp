@@ -737,7 +737,7 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
-                                        std::vector<GroupHull>* hulls) {
+                                        std::vector<GroupHull>* hulls, EditBand* band) {
   const Sweep sw(f, fields, p, azimuth_angle(k, p.azimuths));
   const AzimuthFrame& frame = sw.frame;
   // The edit box's columns [ua, ub] and rows [v0, v1) in (major, minor). Line c's sample at
@@ -802,6 +802,20 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
   const std::size_t flag_u = frame.x_major ? 1 : w, flag_v = frame.x_major ? w : 1;
   const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 zero = _mm256_setzero_ps();
+  const bool from_band = band && band->valid && band->grid == out.angles.data() &&
+                         band->edited.x0 == edited.x0 && band->edited.y0 == edited.y0 &&
+                         band->edited.x1 == edited.x1 && band->edited.y1 == edited.y1;
+  std::size_t band_at = 0;
+  if (band && !from_band) {
+    std::size_t total = 0;
+    for (int u = u_lo; u < u_hi; ++u) {
+      int lo, hi;
+      texel_range(u, lo, hi);
+      if (lo < hi) total += static_cast<std::size_t>(hi - lo) + 8;
+    }
+    band->values.resize(total);
+    band->edited = edited, band->grid = out.angles.data(), band->valid = true;
+  }
   for (int u = u_lo; u < u_hi; ++u) {
     int lo, hi;
     texel_range(u, lo, hi);
@@ -824,9 +838,28 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
       const __m256 wt = _mm256_add_ps(_mm256_add_ps(zero, _mm256_and_ps(has_below, below)),
                                       _mm256_and_ps(has_above, above));
       alignas(32) float a[8];
-      _mm256_store_ps(a, _mm256_and_ps(_mm256_div_ps(_mm256_loadu_ps(acc + v), wt),
-                                       _mm256_cmp_ps(wt, zero, _CMP_GT_OQ)));
+      const __m256 value = _mm256_and_ps(_mm256_div_ps(_mm256_loadu_ps(acc + v), wt),
+                                         _mm256_cmp_ps(wt, zero, _CMP_GT_OQ));
+      _mm256_store_ps(a, value);
       const int n = std::min(8, hi - v);
+      if (band) {
+        float* kept = band->values.data() + band_at;
+        band_at += static_cast<std::size_t>(n);
+        if (from_band) {
+          const unsigned differ = static_cast<unsigned>(_mm256_movemask_ps(
+                                      _mm256_cmp_ps(_mm256_loadu_ps(kept), value, _CMP_NEQ_UQ))) &
+                                  ((1u << n) - 1u);
+          for (unsigned m = differ; m != 0; m &= m - 1) {
+            const int l = std::countr_zero(m);
+            const std::size_t vl = static_cast<std::size_t>(v + l);
+            kept[l] = a[l];
+            rec[vl * rec_v] = a[l];
+            std::atomic_ref<unsigned char>(flag[vl * flag_v]).store(1, std::memory_order_relaxed);
+          }
+          continue;
+        }
+        _mm256_storeu_ps(kept, value);
+      }
       for (int l = 0; l < n; ++l) {
         const std::size_t vl = static_cast<std::size_t>(v + l);
         float& dst = rec[vl * rec_v];
@@ -850,7 +883,7 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
-                                        std::vector<GroupHull>* hulls);
+                                        std::vector<GroupHull>* hulls, EditBand* band);
 }  // namespace avx512
 
 namespace {
@@ -893,10 +926,12 @@ void sweep_azimuth_lanes(const data::HeightField& f, const LaneFields& fields,
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
-                                        std::vector<GroupHull>* hulls) {
+                                        std::vector<GroupHull>* hulls, EditBand* band) {
   return sweep_isa() == SweepIsa::kAvx512
-             ? avx512::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed, hulls)
-             : avx2::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed, hulls);
+             ? avx512::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed, hulls,
+                                                   band)
+             : avx2::sweep_azimuth_lines_through(f, fields, p, edited, k, sc, out, changed, hulls,
+                                                 band);
 }
 #endif
 

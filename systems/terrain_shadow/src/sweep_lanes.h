@@ -55,6 +55,18 @@ struct GroupHull {
   std::vector<float> h, j;     // lane 0's points, then lane 1's, ...
 };
 
+// The values an edit recomputed along one azimuth's lines (those it compared with `out`'s
+// records, in the write-back's order), kept so that the next edit of the same rectangle into the
+// same grid compares with them instead of the records (one contiguous read instead of a record
+// line per pair; docs/terrain_shadow.md, "Ninth round"). Valid while `out`'s records along the
+// band are still the values held: the workspace clears it on any other sweep.
+struct EditBand {
+  TexelRect edited{};
+  const float* grid = nullptr;  // the HorizonGrid's angles it was written into
+  bool valid = false;
+  std::vector<float> values;
+};
+
 struct LaneScratch {
   std::vector<float> acc;             // (major, minor + padding) layout
   int acc_row = 0;                    // > 0: acc's texels are zeros, rows of acc_row floats
@@ -100,9 +112,12 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
 // its hull where that is at or ahead of the edit, and leaves its hull at the edit's first
 // recorded column. The caller guarantees that every kept hull's samples ahead of its column
 // are those of `fields` now (horizon_sweep.cpp clears them otherwise).
+// `band` (this azimuth's, may be null: only for a sole writer, SweepWorkspace::set_sole_writer)
+// replaces the records as what the recomputed values are compared with where it was kept by an
+// edit of the same rectangle into the same grid, and is left holding this edit's values.
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed,
-                                        std::vector<GroupHull>* hulls);
+                                        std::vector<GroupHull>* hulls, EditBand* band = nullptr);
 
 }  // namespace penumbra::terrain_shadow::detail

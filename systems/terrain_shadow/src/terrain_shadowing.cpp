@@ -177,6 +177,7 @@ TerrainShadowing<N>::TerrainShadowing(const TerrainShadowConfig& config)
     hemisphere_exact_.emplace(config_.azimuths, WedgeDomain::kHemisphere, config_.table_resolution);
   else
     hemisphere_.emplace(config_.azimuths, WedgeDomain::kHemisphere, config_.table_resolution);
+  sweep_.set_sole_writer(true);  // horizons_ is written through sweep_ only (update, update_edit)
 }
 
 template <int N>

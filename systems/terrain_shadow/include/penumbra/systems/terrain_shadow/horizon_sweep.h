@@ -41,15 +41,28 @@ class SweepWorkspace {
   ~SweepWorkspace();
   SweepWorkspace(SweepWorkspace&&) noexcept;
   SweepWorkspace& operator=(SweepWorkspace&&) noexcept;
-  // The buffers are a cache: a copy starts empty, and assigning keeps this one's.
+  // The buffers are a cache: a copy starts empty, and assigning keeps this one's buffers but
+  // drops what they hold about an edited grid (see set_sole_writer). The setting is copied.
   SweepWorkspace(const SweepWorkspace&);
-  SweepWorkspace& operator=(const SweepWorkspace&) { return *this; }
+  SweepWorkspace& operator=(const SweepWorkspace&);
+
+  // For a caller that owns the grid it edits (TerrainShadowing does): between two
+  // sweep_horizons_through calls with this workspace, their `out` is written by nothing but
+  // sweeps with this workspace. Each edit then also keeps, per azimuth, the values it recomputed
+  // along its lines, and the next edit of the same rectangle into the same grid compares with
+  // those instead of the grid's records (a contiguous read instead of a cache line per pair;
+  // the same results). Off by default: a grid overwritten behind the workspace's back (say
+  // copy-assigned to its state before the edit) would otherwise keep the edit's values along
+  // those lines.
+  void set_sole_writer(bool on) { sole_writer_ = on; }
+  bool sole_writer() const { return sole_writer_; }
 
   struct Buffers;      // internal (horizon_sweep.cpp)
   Buffers& buffers();  // made anew after a move
 
  private:
   std::unique_ptr<Buffers> buffers_;
+  bool sole_writer_ = false;
 };
 
 // Environment horizons (limit_to_point must be empty: a distance limit has no hull form) for
@@ -104,6 +117,8 @@ void brute_force_horizons(const data::HeightField& field, const HorizonParams& p
 // the last edits left where those lie at or ahead of this edit (the same bits as a walk from
 // the far end); they are used only while the field differs from the workspace's last one
 // inside `edited` alone, with the same azimuths and height scale, and cleared otherwise.
+// With SweepWorkspace::set_sole_writer, the same rectangle edited again compares with the values
+// the last edit kept instead of `out`'s records.
 std::size_t sweep_horizons_through(const data::HeightField& field, const HorizonParams& params,
                                    const TexelRect& edited, HorizonGrid& out,
                                    std::vector<unsigned char>& changed);
