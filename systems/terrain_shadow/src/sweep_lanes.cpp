@@ -16,6 +16,10 @@
 #include <cstring>
 #include <limits>
 
+#ifndef PENUMBRA_SWEEP_LANES_AVX512  // LaneFields: compiled for the baseline only
+#include <tbb/parallel_for.h>
+#endif
+
 #include "fast_math.h"
 #include "lanes.h"
 #include "sweep_geometry.h"
@@ -46,16 +50,17 @@ void LaneFields::assign(const data::HeightField& f) {
     x_major.assign(nx, 0.0f);
     y_major.assign(ny, 0.0f);
   }
-  for (int y = 0; y < f.height; ++y)
-    std::copy_n(f.heights.data() + static_cast<std::size_t>(y) * f.width, f.width,
-                y_major.data() + static_cast<std::size_t>(y) * stride_y + kPad);
-  // The transposed copy in bands of 16 rows: 16 source lines in cache, whole lines written.
-  for (int y0 = 0; y0 < f.height; y0 += 16) {
-    const int y1 = std::min(y0 + 16, f.height);
+  // Bands of 16 rows, in parallel (the copies are the sweep's only serial part): the rows, then
+  // their transposed copy, 16 source lines in cache and whole lines written.
+  tbb::parallel_for(0, (f.height + 15) / 16, [&](int band) {
+    const int y0 = band * 16, y1 = std::min(y0 + 16, f.height);
+    for (int y = y0; y < y1; ++y)
+      std::copy_n(f.heights.data() + static_cast<std::size_t>(y) * f.width, f.width,
+                  y_major.data() + static_cast<std::size_t>(y) * stride_y + kPad);
     for (int x = 0; x < f.width; ++x)
       for (int y = y0; y < y1; ++y)
         x_major[static_cast<std::size_t>(x) * stride_x + kPad + y] = f.at(x, y);
-  }
+  });
 }
 
 TexelRect LaneFields::update(const data::HeightField& f) {
