@@ -653,6 +653,12 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
     // Push on the lanes inside the field: slot s keeps the old top (every lane stores).
     _mm512_storeu_ps(links + 2 * at, _mm512_permutex2var_ps(a_h, pairs_lo, a_j));
     _mm512_storeu_ps(links + 2 * at + W, _mm512_permutex2var_ps(a_h, pairs_hi, a_j));
+    if (valid == kAll) {  // every lane inside the field (most steps): register moves, no blends
+      t16 = _mm512_add_epi32(t16, one);
+      depth = _mm512_maskz_min_epi32(kAll, _mm512_add_epi32(depth, one), four);
+      d_h = c_h, d_j = c_j, c_h = b_h, c_j = b_j, b_h = a_h, b_j = a_j, a_h = h, a_j = j;
+      continue;
+    }
     t16 = _mm512_mask_add_epi32(t16, valid, t16, one);
     depth = _mm512_mask_min_epi32(depth, valid, _mm512_add_epi32(depth, one), four);
     d_h = _mm512_mask_mov_ps(d_h, valid, c_h), d_j = _mm512_mask_mov_ps(d_j, valid, c_j);
