@@ -408,7 +408,7 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
           sc.step_h.data() + at,
           _mm512_mul_ps(_mm512_set1_ps(scale),
                         _mm512_fmadd_ps(_mm512_set1_ps(t), _mm512_sub_ps(h1, h0), h0)));
-      _mm512_storeu_si512(sc.step_ok.data() + at, _mm512_movm_epi32(ok));
+      sc.step_ok[s] = ok;  // the walk reads the mask itself (step_ok[s], not [s * W + lane])
       continue;
     }
 #endif
@@ -605,8 +605,7 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
     const int b0 = sc.step_b0[s];
     if (b0 + W - 1 < 0 || b0 > bmax) continue;
     const std::size_t at = static_cast<std::size_t>(s) * W;
-    const __m512i ok = _mm512_loadu_si512(sc.step_ok.data() + at);
-    const __mmask16 valid = _mm512_test_epi32_mask(ok, ok);
+    const __mmask16 valid = static_cast<__mmask16>(sc.step_ok[s]);
     const __m512 h = _mm512_loadu_ps(sc.step_h.data() + at);
     const __m512 j = _mm512_set1_ps(static_cast<float>(frame.step * u));
     // Pop while the second point is at least as steep as the top (Timonen 2010, sec. 4).

@@ -72,8 +72,9 @@ struct LaneScratch {
   int acc_row = 0;                    // > 0: acc's texels are zeros, rows of acc_row floats
   std::vector<float> t_of_u;          // per major coordinate: the lines' offset t
   std::vector<float> hull_h, hull_j;  // [step * kGroupLines + lane]: the hull's links
-  // A group's samples, [step * kGroupLines + lane]: heights and inside-the-field masks; per
-  // step the lanes' first minor index and offset.
+  // A group's samples, [step * kGroupLines + lane]: heights and inside-the-field masks (the
+  // AVX-512 copy: one 16-bit mask per step, at [step]); per step the lanes' first minor index
+  // and offset.
   std::vector<float> step_h;
   std::vector<std::int32_t> step_ok, step_b0;
   std::vector<float> step_t;
