@@ -550,13 +550,11 @@ constexpr __mmask16 kAll = 0xffff;
   const __m512 w_lo = _mm512_maskz_mov_ps(valid, _mm512_set1_ps(1.0f - t));
   _mm512_storeu_ps(a,
                    _mm512_fmadd_ps(w_lo, angle, _mm512_fmadd_ps(w_hi, below, _mm512_loadu_ps(a))));
-  alignas(64) float last[16];
-  _mm512_store_ps(last, angle);
-  const __m256 zero = _mm256_setzero_ps();
-  const __m256 below8 = _mm256_blend_ps(zero, _mm256_set1_ps(last[15]), 1);
-  const __m256 w_hi8 = (valid >> 15) ? _mm256_blend_ps(zero, _mm256_set1_ps(t), 1) : zero;
-  _mm256_storeu_ps(
-      a + 16, _mm256_fmadd_ps(zero, zero, _mm256_fmadd_ps(w_hi8, below8, _mm256_loadu_ps(a + 16))));
+  // Slot 16 (add()'s last vector changes no other slot: it adds 0 * 0 to them, and an
+  // accumulator is never -0).
+  const float angle15 =
+      _mm512_cvtss_f32(_mm512_maskz_permutexvar_ps(kAll, _mm512_set1_epi32(15), angle));
+  a[16] = std::fma((valid >> 15) ? t : 0.0f, angle15, a[16]) + 0.0f;
 }
 
 template <class Take>
