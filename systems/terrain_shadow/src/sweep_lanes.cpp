@@ -706,6 +706,28 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
     return frame.x_major ? static_cast<std::size_t>(v) * w + u
                          : static_cast<std::size_t>(u) * w + v;
   };
+  if (!frame.x_major) {
+    // u is y: a row of acc is a row of the plane. Inside the field the weight is t + (1 - t),
+    // which rounds to 1 (a / 1 = a): rows whose weight does are copied, their first and last
+    // texels of the field (one-sided weights) by value().
+    for (int u = 0; u < nu; ++u) {
+      float* a = acc + static_cast<std::size_t>(u) * row;
+      float* dst = plane + at(u, 0);
+      const float t = t_of_u[u];
+      if ((0.0f + t) + (1.0f - t) != 1.0f) {
+        for (int v = 0; v < nv; ++v) dst[v] = value(u, v), a[v] = 0.0f;
+        continue;
+      }
+      const bool first = v0 == 0, last = v1 - 1 == bmax;
+      const float first_value = first ? value(u, 0) : 0.0f;
+      const float last_value = last ? value(u, nv - 1) : 0.0f;
+      std::copy_n(a, nv, dst);
+      std::fill_n(a, nv, 0.0f);
+      if (first) dst[0] = first_value;
+      if (last) dst[nv - 1] = last_value;
+    }
+    return;
+  }
   const int nu8 = nu / 8 * 8, nv8 = nv / 8 * 8;
   for (int u = 0; u < nu8; u += 8)
     for (int v = 0; v < nv8; v += 8) {
