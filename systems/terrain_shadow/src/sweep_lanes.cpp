@@ -728,34 +728,34 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
     }
     return;
   }
+  // u is x: 8 x 8 blocks transposed in registers. Where the block's eight columns' weight
+  // t + (1 - t) rounds to 1 and no lane is on the field's first or last row, a block is copied.
   const int nu8 = nu / 8 * 8, nv8 = nv / 8 * 8;
-  for (int u = 0; u < nu8; u += 8)
+  for (int u = 0; u < nu8; u += 8) {
+    bool unit = true;
+    for (int i = 0; i < 8; ++i) unit &= (0.0f + t_of_u[u + i]) + (1.0f - t_of_u[u + i]) == 1.0f;
     for (int v = 0; v < nv8; v += 8) {
       __m256 m[8];
       const bool edge = v0 + v == 0 || v0 + v + 7 >= bmax;  // a lane on the first or last row
       for (int i = 0; i < 8; ++i) {
         const std::size_t q = static_cast<std::size_t>(u + i) * row + v;
-        const float t = t_of_u[u + i];
-        __m256 b = _mm256_set1_ps(texel_weight(v0 + v + 1, bmax, t));
-        if (edge) {
-          alignas(32) float wl[8];
-          for (int l = 0; l < 8; ++l) wl[l] = texel_weight(v0 + v + l, bmax, t);
-          b = _mm256_load_ps(wl);
-        }
         const __m256 a = _mm256_loadu_ps(acc + q);
         _mm256_storeu_ps(acc + q, _mm256_setzero_ps());
-        // Inside the field the weight is t + (1 - t), which rounds to 1 (a / 1 = a: no division).
-        if (!edge && _mm256_cvtss_f32(b) == 1.0f) {
+        if (unit && !edge) {
           m[i] = a;
           continue;
         }
+        const float t = t_of_u[u + i];
+        alignas(32) float wl[8];
+        for (int l = 0; l < 8; ++l) wl[l] = texel_weight(v0 + v + l, bmax, t);
+        const __m256 b = _mm256_load_ps(wl);
         m[i] =
             _mm256_and_ps(_mm256_div_ps(a, b), _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_GT_OQ));
       }
-      if (frame.x_major) transpose8(m);
-      for (int i = 0; i < 8; ++i)
-        _mm256_storeu_ps(plane + (frame.x_major ? at(u, v + i) : at(u + i, v)), m[i]);
+      transpose8(m);
+      for (int i = 0; i < 8; ++i) _mm256_storeu_ps(plane + at(u, v + i), m[i]);
     }
+  }
   for (int u = 0; u < nu; ++u) {
     for (int v = u < nu8 ? nv8 : 0; v < nv; ++v) {
       plane[at(u, v)] = value(u, v);
