@@ -233,6 +233,12 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
     // Push on the active lanes: slot k - lo keeps the old top (every lane stores).
     _mm512_storeu_ps(links + 2 * at, _mm512_permutex2var_ps(_mm512_castps256_ps512(ah), pairs,
                                                             _mm512_castps256_ps512(ar)));
+    if (active == 0xff) {  // every lane (most columns): register moves, no blends
+      top = _mm256_add_epi32(top, one);
+      depth = _mm256_min_epi32(_mm256_add_epi32(depth, one), four);
+      dh = ch, dr = cr, ch = bh, cr = br, bh = ah, br = ar, ah = h, ar = rf;
+      continue;
+    }
     top = _mm256_mask_add_epi32(top, active, top, one);
     depth = _mm256_mask_min_epi32(depth, active, _mm256_add_epi32(depth, one), four);
     dh = _mm256_mask_mov_ps(dh, active, ch), dr = _mm256_mask_mov_ps(dr, active, cr);
