@@ -12,20 +12,12 @@
 #include "sweep_lanes.h"
 
 #ifdef __AVX2__
-#ifdef __clang__  // clang has no GCC target pragma; its attribute pragma does the same here
-#pragma clang attribute push(__attribute__((target("avx512f,avx512vl,avx512bw,avx512dq"))), \
-                             apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx512f,avx512vl,avx512bw,avx512dq")
-#endif
+#include "avx512_target_begin.h"  // to avx512_target_end.h below
+
 #include <immintrin.h>
 
 #define PENUMBRA_RADIAL_LANES_AVX512
 #include "radial_sweep_lanes.cpp"  // one source, two targets
-#ifdef __clang__
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+
+#include "avx512_target_end.h"
 #endif
