@@ -77,6 +77,31 @@ TEST(RadialSweepLanes, LanesEqualTheScalarKernel) {
   EXPECT_GT(compared, finite);
 }
 
+TEST(RadialSweepLanes, OneScratchServesBothKernels) {
+  // A scratch sized by the scalar kernel for a long group (its hulls: one float per column),
+  // then used by the lanes for a short one (eight per column, pairs in the AVX-512 copy): each
+  // kernel sizes what it needs (an overrun shows under ASan), with the same results as a fresh
+  // scratch.
+  RadialScratch fresh;
+  int compared = 0;
+  for_random_groups([&](const RadialGroup& g, int trial) {
+    RadialScratch shared;  // new each time: its buffers hold exactly what the scalar kernel sized
+    std::vector<float> out(static_cast<std::size_t>(g.width) * kRadialLanes);
+    sweep_radial_group_scalar(g, shared, out.data());
+    RadialGroup short_group = g;
+    for (int l = 0; l < kRadialLanes; ++l)
+      short_group.first[l] = 0, short_group.end[l] = std::min(g.width, 2 + trial % 4);
+    std::vector<float> reused(static_cast<std::size_t>(g.width) * kRadialLanes),
+        expected(reused.size());
+    sweep_radial_group_lanes(short_group, shared, reused.data());
+    sweep_radial_group_lanes(short_group, fresh, expected.data());
+    for (std::size_t i = 0; i < reused.size(); ++i)
+      ASSERT_TRUE(same(reused[i], expected[i])) << "trial " << trial << " slot " << i;
+    compared += static_cast<int>(reused.size());
+  });
+  EXPECT_GT(compared, 1000);
+}
+
 TEST(RadialSweepLanes, TheAvx512KernelGivesTheAvx2KernelsBits) {
   if (sweep_isa() != SweepIsa::kAvx512)
     GTEST_SKIP() << "this CPU has no AVX-512: only the AVX2 kernel can run";

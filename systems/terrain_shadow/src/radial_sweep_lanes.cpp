@@ -102,7 +102,10 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
   // is one vector store and a pop reads the new third point from the old one's slot (found
   // from its r: r = r_near + k, to a float's precision, far less than a step).
   const std::size_t slots = static_cast<std::size_t>(hi - lo + 1) * L;
-  if (sc.hull_r.size() < slots) sc.hull_r.resize(slots), sc.hull_h.resize(2 * slots);
+  // (The AVX-512 copy keeps (h, r) pairs in hull_h: twice the floats. Each size on its own: the
+  // scalar kernel may have sized both alike.)
+  if (sc.hull_r.size() < slots) sc.hull_r.resize(slots);
+  if (sc.hull_h.size() < 2 * slots) sc.hull_h.resize(2 * slots);
   float* link_h = sc.hull_h.data();
 
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);

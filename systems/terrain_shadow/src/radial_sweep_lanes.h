@@ -30,8 +30,8 @@ struct RadialGroup {
   std::array<int, kRadialLanes> first{}, end{};  // columns swept: [first, end)
 };
 
-// Per-thread scratch: the hulls, kRadialLanes floats per depth; the lanes' samples (heights and
-// active masks) per column.
+// Per-thread scratch: the hulls, kRadialLanes floats per depth (the AVX-512 copy: (h, r) pairs
+// in hull_h); the lanes' samples (heights and active masks) per column.
 struct RadialScratch {
   std::vector<float> hull_r, hull_h;
   std::vector<float> h, active;
