@@ -313,15 +313,17 @@ TEST(HorizonSweep, ASoleWritersEditsOfOneRectangleEqualAPlainWorkspacesAndAFullS
   // With SweepWorkspace::set_sole_writer an edit keeps the values it recomputed along each
   // azimuth's lines, and the next edit of the same rectangle compares with those instead of the
   // grid's records. One box edited in turn (raised, lowered, left as it was), another box
-  // between, then the first again: each result and its changed flags equal those of a workspace
-  // without the setting, and the horizons equal a full sweep, bit for bit.
-  auto [f, p, ws, edited] = swept(64, 21, 24);
+  // between, then the first again, a big box twice (its lines cover more than an eighth of the
+  // field: no values kept), the first again: each result and its changed flags equal those of a
+  // workspace without the setting, and the horizons equal a full sweep, bit for bit.
+  auto [f, p, ws, edited] = swept(128, 21, 24);
   ws.set_sole_writer(true);
   SweepWorkspace plain_ws;
   HorizonGrid plain = edited;
-  const TexelRect b{28, 30, 36, 37}, c{30, 33, 34, 35};
-  const std::pair<TexelRect, float> steps[] = {{b, 4.0f},  {b, -6.0f}, {b, 0.0f}, {b, 2.5f},
-                                               {c, -3.0f}, {b, 1.0f},  {b, -1.0f}};
+  const TexelRect b{60, 62, 68, 69}, c{62, 65, 66, 67}, big{16, 20, 112, 100};
+  const std::pair<TexelRect, float> steps[] = {{b, 4.0f},    {b, -6.0f}, {b, 0.0f},  {b, 2.5f},
+                                               {c, -3.0f},   {b, 1.0f},  {b, -1.0f}, {big, 2.0f},
+                                               {big, -1.0f}, {b, 0.5f}};
   int changed_texels = 0;
   for (const auto& [box, dh] : steps) {
     raise_box(f, box, dh);
@@ -343,10 +345,10 @@ TEST(HorizonSweep, AGridResetBetweenEditsStaysExactUnlessTheWorkspaceIsTheSoleWr
   // assigned over drops the values its edits kept, so a sole writer's owner that is assigned
   // (grid and workspace together, as TerrainShadowing's members) stays exact too.
   for (const bool sole : {false, true}) {
-    auto [f, p, ws, edited] = swept(48, 5, 16);
+    auto [f, p, ws, edited] = swept(128, 5, 16);
     ws.set_sole_writer(sole);
     const HorizonGrid before = edited;
-    const TexelRect b{20, 20, 26, 25};
+    const TexelRect b{60, 60, 66, 65};  // a brush's box: its lines cover under an eighth
     raise_box(f, b, 5.0f);
     std::vector<unsigned char> changed;
     sweep_horizons_through(f, p, b, edited, changed, ws);

@@ -832,19 +832,28 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
   const std::size_t flag_u = frame.x_major ? 1 : w, flag_v = frame.x_major ? w : 1;
   const __m256i iota = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256 zero = _mm256_setzero_ps();
+  EditBand* kept_band = band;  // null from here on where this edit keeps none
   const bool from_band = band && band->valid && band->grid == out.angles.data() &&
                          band->edited.x0 == edited.x0 && band->edited.y0 == edited.y0 &&
                          band->edited.x1 == edited.x1 && band->edited.y1 == edited.y1;
   std::size_t band_at = 0;
-  if (band && !from_band) {
+  if (kept_band && !from_band) {
     std::size_t total = 0;
     for (int u = u_lo; u < u_hi; ++u) {
       int lo, hi;
       texel_range(u, lo, hi);
       if (lo < hi) total += static_cast<std::size_t>(hi - lo) + 8;
     }
-    band->values.resize(total);
-    band->edited = edited, band->grid = out.angles.data(), band->valid = true;
+    // Kept for edits whose lines cover at most an eighth of the field (a brush's): a larger one
+    // would hold a copy of that much of the grid for little gain. Memory: at most an eighth of
+    // the horizons.
+    if (total > static_cast<std::size_t>(major) * minor / 8) {
+      *kept_band = EditBand{};
+      kept_band = nullptr;
+    } else {
+      kept_band->values.resize(total);
+      kept_band->edited = edited, kept_band->grid = out.angles.data(), kept_band->valid = true;
+    }
   }
   for (int u = u_lo; u < u_hi; ++u) {
     int lo, hi;
@@ -872,8 +881,8 @@ std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFi
                                          _mm256_cmp_ps(wt, zero, _CMP_GT_OQ));
       _mm256_store_ps(a, value);
       const int n = std::min(8, hi - v);
-      if (band) {
-        float* kept = band->values.data() + band_at;
+      if (kept_band) {
+        float* kept = kept_band->values.data() + band_at;
         band_at += static_cast<std::size_t>(n);
         if (from_band) {
           const unsigned differ = static_cast<unsigned>(_mm256_movemask_ps(

@@ -115,7 +115,8 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
 // are those of `fields` now (horizon_sweep.cpp clears them otherwise).
 // `band` (this azimuth's, may be null: only for a sole writer, SweepWorkspace::set_sole_writer)
 // replaces the records as what the recomputed values are compared with where it was kept by an
-// edit of the same rectangle into the same grid, and is left holding this edit's values.
+// edit of the same rectangle into the same grid, and is left holding this edit's values (or
+// emptied, where the edit's lines cover more than an eighth of the field).
 std::size_t sweep_azimuth_lines_through(const data::HeightField& f, const LaneFields& fields,
                                         const HorizonParams& p, const TexelRect& edited, int k,
                                         LaneScratch& sc, HorizonGrid& out, unsigned char* changed,

@@ -51,9 +51,10 @@ class SweepWorkspace {
   // sweeps with this workspace. Each edit then also keeps, per azimuth, the values it recomputed
   // along its lines, and the next edit of the same rectangle into the same grid compares with
   // those instead of the grid's records (a contiguous read instead of a cache line per pair;
-  // the same results). Off by default: a grid overwritten behind the workspace's back (say
-  // copy-assigned to its state before the edit) would otherwise keep the edit's values along
-  // those lines.
+  // the same results). Memory: for edits whose lines cover at most an eighth of the field, so at
+  // most an eighth of the grid's. Off by default: a grid overwritten behind the workspace's back
+  // (say copy-assigned to its state before the edit) would otherwise keep the edit's values
+  // along those lines.
   void set_sole_writer(bool on) { sole_writer_ = on; }
   bool sole_writer() const { return sole_writer_; }
 
