@@ -36,6 +36,7 @@ struct TexelRect {
   std::size_t count() const { return static_cast<std::size_t>(width()) * height(); }
   bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
   static TexelRect all(const data::HeightField& f) { return {0, 0, f.width, f.height}; }
+  bool operator==(const TexelRect&) const = default;  // the same corners
 };
 
 struct HorizonParams {
