@@ -579,8 +579,7 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
   // A fourth point, d, below c, and per lane how many of a, b, c, d are current (the rest are
   // refilled from the links only when a pop needs them: at least min(size, 3) are current).
   __m512 d_h = c_h, d_j = c_j;
-  const __m512i two = _mm512_set1_epi32(2), three = _mm512_set1_epi32(3),
-                four = _mm512_set1_epi32(4);
+  const __m512i three = _mm512_set1_epi32(3), four = _mm512_set1_epi32(4);
   __m512i depth = _mm512_maskz_min_epi32(kAll, t16, three);
   auto split = [&] {  // back into the 8-lane registers
     _mm512_store_si512(lanes.size, t16);
@@ -618,6 +617,17 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       const __m512 lhs = _mm512_mul_ps(_mm512_sub_ps(b_h, h), _mm512_sub_ps(a_j, j));
       const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
       const __mmask16 pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
+      // Worked out before the pop, beside the comparison (off the path from it to the gather;
+      // docs/terrain_shadow.md, "Tenth round"): the lanes whose c a pop leaves stale with a point
+      // below b (depth < 4, size > 3 before it), and the links' index of c's slot (c becomes b,
+      // and the slot b was pushed at holds the point below it; the gather reads refilling lanes
+      // only, whose c is a point of the hull).
+      const __mmask16 low =
+          _mm512_mask_cmplt_epi32_mask(_mm512_cmpgt_epi32_mask(t16, three), depth, four);
+      const __m512i i3 = _mm512_add_epi32(
+          _mm512_maskz_slli_epi32(
+              kAll, _mm512_maskz_cvttps_epi32(kAll, _mm512_sub_ps(vj_start, c_j)), kGroupShift),
+          lane);
       if (pop == 0) break;
       t16 = _mm512_mask_sub_epi32(t16, pop, t16, one);
       depth = _mm512_mask_sub_epi32(depth, pop, depth, one);
@@ -625,13 +635,8 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       b_h = _mm512_mask_mov_ps(b_h, pop, c_h), b_j = _mm512_mask_mov_ps(b_j, pop, c_j);
       c_h = _mm512_mask_mov_ps(c_h, pop, d_h), c_j = _mm512_mask_mov_ps(c_j, pop, d_j);
       // Lanes whose c is now stale with a point below b: c from b's link.
-      const __mmask16 refill =
-          _mm512_mask_cmpgt_epi32_mask(_mm512_mask_cmpgt_epi32_mask(pop, three, depth), t16, two);
+      const __mmask16 refill = pop & low;
       if (refill == 0) continue;
-      // The slot b was pushed at holds the point below it.
-      const __m512i slot = _mm512_maskz_max_epi32(
-          kAll, _mm512_maskz_cvttps_epi32(kAll, _mm512_sub_ps(vj_start, b_j)), zero_i);
-      const __m512i i3 = _mm512_add_epi32(_mm512_maskz_slli_epi32(kAll, slot, kGroupShift), lane);
       // Each link's (height, j) pair as one 64-bit element, lanes 0-7 then 8-15.
       const __m512 lo = _mm512_castsi512_ps(
           _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(refill),
