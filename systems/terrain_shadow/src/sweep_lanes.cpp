@@ -50,17 +50,37 @@ void LaneFields::assign(const data::HeightField& f) {
     x_major.assign(nx, 0.0f);
     y_major.assign(ny, 0.0f);
   }
-  // Bands of 16 rows, in parallel (the copies are the sweep's only serial part): the rows, then
-  // their transposed copy, 16 source lines in cache and whole lines written.
-  tbb::parallel_for(0, (f.height + 15) / 16, [&](int band) {
-    const int y0 = band * 16, y1 = std::min(y0 + 16, f.height);
+  // Bands of 8 rows: the rows, then their transposed copy in 8 x 8 blocks transposed in
+  // registers. In parallel bands of 64 rows from 512^2 texels only: at 256^2 the copy takes about
+  // 20 us on one thread, and two threads' fork and join cost more than they save
+  // (docs/terrain_shadow.md, "Eleventh round").
+  auto band = [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       std::copy_n(f.heights.data() + static_cast<std::size_t>(y) * f.width, f.width,
                   y_major.data() + static_cast<std::size_t>(y) * stride_y + kPad);
-    for (int x = 0; x < f.width; ++x)
+    const int w8 = y1 - y0 == 8 ? f.width / 8 * 8 : 0;
+    for (int x = 0; x < w8; x += 8) {
+      __m256 m[8];
+      for (int i = 0; i < 8; ++i)
+        m[i] = _mm256_loadu_ps(f.heights.data() + static_cast<std::size_t>(y0 + i) * f.width + x);
+      transpose8(m);
+      for (int i = 0; i < 8; ++i)
+        _mm256_storeu_ps(x_major.data() + static_cast<std::size_t>(x + i) * stride_x + kPad + y0,
+                         m[i]);
+    }
+    for (int x = w8; x < f.width; ++x)
       for (int y = y0; y < y1; ++y)
         x_major[static_cast<std::size_t>(x) * stride_x + kPad + y] = f.at(x, y);
-  });
+  };
+  auto rows = [&](int r0, int r1) {
+    for (int y0 = r0; y0 < r1; y0 += 8) band(y0, std::min(y0 + 8, r1));
+  };
+  if (static_cast<std::size_t>(f.width) * f.height < 512 * 512) {
+    rows(0, f.height);
+    return;
+  }
+  tbb::parallel_for(0, (f.height + 63) / 64,
+                    [&](int b) { rows(b * 64, std::min(b * 64 + 64, f.height)); });
 }
 
 TexelRect LaneFields::update(const data::HeightField& f) {
@@ -742,27 +762,34 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   // u is x: 8 x 8 blocks transposed in registers. Where the block's eight columns' weight
   // t + (1 - t) rounds to 1 and no lane is on the field's first or last row, a block is copied.
   const int nu8 = nu / 8 * 8, nv8 = nv / 8 * 8;
+  // Per 8 columns: whether all their weights round to 1.
+  sc.unit.resize(static_cast<std::size_t>(nu8 / 8));
   for (int u = 0; u < nu8; u += 8) {
     bool unit = true;
     for (int i = 0; i < 8; ++i) unit &= interior_weight_is_one(t_of_u[u + i]);
-    for (int v = 0; v < nv8; v += 8) {
+    sc.unit[static_cast<std::size_t>(u / 8)] = unit;
+  }
+  // Rows of the plane outer, so that its writes run along eight rows (acc, read across, is
+  // in cache from the walk).
+  for (int v = 0; v < nv8; v += 8) {
+    const bool edge = v0 + v == 0 || v0 + v + 7 >= bmax;  // a lane on the first or last row
+    for (int u = 0; u < nu8; u += 8) {
+      const bool unit = sc.unit[static_cast<std::size_t>(u / 8)];
       __m256 m[8];
-      const bool edge = v0 + v == 0 || v0 + v + 7 >= bmax;  // a lane on the first or last row
       for (int i = 0; i < 8; ++i) {
         const std::size_t q = static_cast<std::size_t>(u + i) * row + v;
-        const __m256 a = _mm256_loadu_ps(acc + q);
+        m[i] = _mm256_loadu_ps(acc + q);
         _mm256_storeu_ps(acc + q, _mm256_setzero_ps());
-        if (unit && !edge) {
-          m[i] = a;
-          continue;
-        }
-        const float t = t_of_u[u + i];
-        alignas(32) float wl[8];
-        for (int l = 0; l < 8; ++l) wl[l] = texel_weight(v0 + v + l, bmax, t);
-        const __m256 b = _mm256_load_ps(wl);
-        m[i] =
-            _mm256_and_ps(_mm256_div_ps(a, b), _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_GT_OQ));
       }
+      if (!unit || edge)  // acc / weight
+        for (int i = 0; i < 8; ++i) {
+          const float t = t_of_u[u + i];
+          alignas(32) float wl[8];
+          for (int l = 0; l < 8; ++l) wl[l] = texel_weight(v0 + v + l, bmax, t);
+          const __m256 b = _mm256_load_ps(wl);
+          m[i] = _mm256_and_ps(_mm256_div_ps(m[i], b),
+                               _mm256_cmp_ps(b, _mm256_setzero_ps(), _CMP_GT_OQ));
+        }
       transpose8(m);
       for (int i = 0; i < 8; ++i) _mm256_storeu_ps(plane + at(u, v + i), m[i]);
     }

@@ -78,6 +78,7 @@ struct LaneScratch {
   std::vector<float> step_h;
   std::vector<std::int32_t> step_ok, step_b0;
   std::vector<float> step_t;
+  std::vector<unsigned char> unit;  // the planes pass: per 8 columns, weights that round to 1
 };
 
 // Which copy of the kernels below runs: the AVX-512 one (the same intrinsics and floats,
