@@ -760,28 +760,33 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
     return;
   }
   // u is x: 8 x 8 blocks transposed in registers. Where the block's eight columns' weight
-  // t + (1 - t) rounds to 1 and no lane is on the field's first or last row, a block is copied.
+  // t + (1 - t) rounds to 1 a block is copied (rows outer, so that the plane's writes run along
+  // eight rows; acc, read across, is in cache from the walk); the field's first and last rows
+  // (one-sided weights) are worked out first by value() and written over the copies after.
   const int nu8 = nu / 8 * 8, nv8 = nv / 8 * 8;
-  // Per 8 columns: whether all their weights round to 1.
-  sc.unit.resize(static_cast<std::size_t>(nu8 / 8));
+  sc.unit.resize(static_cast<std::size_t>(nu8 / 8));  // per 8 columns: weights round to 1
   for (int u = 0; u < nu8; u += 8) {
     bool unit = true;
     for (int i = 0; i < 8; ++i) unit &= interior_weight_is_one(t_of_u[u + i]);
     sc.unit[static_cast<std::size_t>(u / 8)] = unit;
   }
-  // Rows of the plane outer, so that its writes run along eight rows (acc, read across, is
-  // in cache from the walk).
-  for (int v = 0; v < nv8; v += 8) {
-    const bool edge = v0 + v == 0 || v0 + v + 7 >= bmax;  // a lane on the first or last row
+  const bool first = v0 == 0 && nv8 > 0, last = v1 - 1 == bmax && nv - 1 < nv8;
+  sc.edge_values.resize(2 * static_cast<std::size_t>(nu8));
+  float* const first_values = sc.edge_values.data();
+  float* const last_values = first_values + nu8;
+  for (int u = 0; u < nu8; ++u) {
+    if (first) first_values[u] = value(u, 0);
+    if (last) last_values[u] = value(u, nv - 1);
+  }
+  for (int v = 0; v < nv8; v += 8)
     for (int u = 0; u < nu8; u += 8) {
-      const bool unit = sc.unit[static_cast<std::size_t>(u / 8)];
       __m256 m[8];
       for (int i = 0; i < 8; ++i) {
         const std::size_t q = static_cast<std::size_t>(u + i) * row + v;
         m[i] = _mm256_loadu_ps(acc + q);
         _mm256_storeu_ps(acc + q, _mm256_setzero_ps());
       }
-      if (!unit || edge)  // acc / weight
+      if (!sc.unit[static_cast<std::size_t>(u / 8)])  // acc / weight
         for (int i = 0; i < 8; ++i) {
           const float t = t_of_u[u + i];
           alignas(32) float wl[8];
@@ -793,6 +798,9 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
       transpose8(m);
       for (int i = 0; i < 8; ++i) _mm256_storeu_ps(plane + at(u, v + i), m[i]);
     }
+  for (int u = 0; u < nu8; ++u) {
+    if (first) plane[at(u, 0)] = first_values[u];
+    if (last) plane[at(u, nv - 1)] = last_values[u];
   }
   for (int u = 0; u < nu; ++u) {
     for (int v = u < nu8 ? nv8 : 0; v < nv; ++v) {

@@ -79,6 +79,7 @@ struct LaneScratch {
   std::vector<std::int32_t> step_ok, step_b0;
   std::vector<float> step_t;
   std::vector<unsigned char> unit;  // the planes pass: per 8 columns, weights that round to 1
+  std::vector<float> edge_values;   // the planes pass: the first and last rows' values
 };
 
 // Which copy of the kernels below runs: the AVX-512 one (the same intrinsics and floats,
