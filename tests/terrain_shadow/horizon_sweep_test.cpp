@@ -474,6 +474,44 @@ TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
   EXPECT_TRUE(run(detail::SweepIsa::kAvx2) == run(detail::SweepIsa::kAvx512));
 }
 
+TEST(HorizonSweep, TheLaneFieldsHoldEverySampleOnBothAxesAndZerosAround) {
+  // LaneFields::assign against the field itself: both padded copies (x_major, y_major), for
+  // sides that are not multiples of 8 (the 8 x 8 transposes' tails) and for a field of 512^2
+  // texels or more (copied in parallel bands); update() then finds nothing changed.
+  for (const auto& [w, h] : {std::pair{45, 37}, std::pair{520, 515}}) {
+    data::HeightField f = mountains(std::max(w, h), 17);
+    f = data::crop(f, 0, 0, w, h);
+    detail::LaneFields fields;
+    fields.x_major.assign(1, 0.0f);  // another shape: assign() sizes and zeroes its storage
+    fields.assign(f);
+    constexpr int pad = detail::kGroupLines;
+    ASSERT_EQ(fields.x_major.size(), static_cast<std::size_t>(fields.stride_x) * w);
+    ASSERT_EQ(fields.y_major.size(), static_cast<std::size_t>(fields.stride_y) * h);
+    int wrong = 0, padding = 0;
+    for (int x = 0; x < w; ++x)
+      for (int i = 0; i < fields.stride_x; ++i) {
+        const float v = fields.x_major[static_cast<std::size_t>(x) * fields.stride_x + i];
+        const int y = i - pad;
+        if (y >= 0 && y < h)
+          wrong += v != f.at(x, y);
+        else
+          padding += v != 0.0f;
+      }
+    for (int y = 0; y < h; ++y)
+      for (int i = 0; i < fields.stride_y; ++i) {
+        const float v = fields.y_major[static_cast<std::size_t>(y) * fields.stride_y + i];
+        const int x = i - pad;
+        if (x >= 0 && x < w)
+          wrong += v != f.at(x, y);
+        else
+          padding += v != 0.0f;
+      }
+    EXPECT_EQ(wrong, 0) << w << " x " << h;
+    EXPECT_EQ(padding, 0) << w << " x " << h;
+    EXPECT_TRUE(fields.update(f).empty()) << w << " x " << h;
+  }
+}
+
 TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {
   PENUMBRA_STABILITY("a single-texel spike of 1e6 (extreme slope)",
                      "horizon angles finite, within [0, pi/2]", "-");

@@ -52,8 +52,8 @@ void LaneFields::assign(const data::HeightField& f) {
   }
   // Bands of 8 rows: the rows, then their transposed copy in 8 x 8 blocks transposed in
   // registers. In parallel bands of 64 rows from 512^2 texels only: at 256^2 the copy takes about
-  // 20 us on one thread, and two threads' fork and join cost more than they save
-  // (docs/terrain_shadow.md, "Eleventh round").
+  // 12 us on one thread, less than two threads' fork and join (docs/terrain_shadow.md, "Eleventh
+  // round").
   auto band = [&](int y0, int y1) {
     for (int y = y0; y < y1; ++y)
       std::copy_n(f.heights.data() + static_cast<std::size_t>(y) * f.width, f.width,
