@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -474,41 +475,65 @@ TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
   EXPECT_TRUE(run(detail::SweepIsa::kAvx2) == run(detail::SweepIsa::kAvx512));
 }
 
+// Samples of `fields` that differ from `f` (both copies) and non-zero padding samples.
+std::pair<int, int> lane_fields_mismatch(const detail::LaneFields& fields,
+                                         const data::HeightField& f) {
+  constexpr int pad = detail::kGroupLines;
+  const int w = f.width, h = f.height;
+  int wrong = 0, padding = 0;
+  auto same = [](float a, float b) {
+    return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+  };
+  for (int x = 0; x < w; ++x)
+    for (int i = 0; i < fields.stride_x; ++i) {
+      const float v = fields.x_major[static_cast<std::size_t>(x) * fields.stride_x + i];
+      const int y = i - pad;
+      if (y >= 0 && y < h)
+        wrong += !same(v, f.at(x, y));
+      else
+        padding += v != 0.0f;
+    }
+  for (int y = 0; y < h; ++y)
+    for (int i = 0; i < fields.stride_y; ++i) {
+      const float v = fields.y_major[static_cast<std::size_t>(y) * fields.stride_y + i];
+      const int x = i - pad;
+      if (x >= 0 && x < w)
+        wrong += !same(v, f.at(x, y));
+      else
+        padding += v != 0.0f;
+    }
+  return {wrong, padding};
+}
+
 TEST(HorizonSweep, TheLaneFieldsHoldEverySampleOnBothAxesAndZerosAround) {
   // LaneFields::assign against the field itself: both padded copies (x_major, y_major), for
   // sides that are not multiples of 8 (the 8 x 8 transposes' tails) and for a field of 512^2
-  // texels or more (copied in parallel bands); update() then finds nothing changed.
+  // texels or more (copied in parallel bands); update() then finds nothing changed. Assigned
+  // again a field of the same shape, the copies skip the bands of 8 rows they hold already:
+  // changes in a band's last row, in the short last band and to a sign bit (-0 for 0) must
+  // still reach both copies.
   for (const auto& [w, h] : {std::pair{45, 37}, std::pair{520, 515}}) {
     data::HeightField f = mountains(std::max(w, h), 17);
     f = data::crop(f, 0, 0, w, h);
     detail::LaneFields fields;
     fields.x_major.assign(1, 0.0f);  // another shape: assign() sizes and zeroes its storage
     fields.assign(f);
-    constexpr int pad = detail::kGroupLines;
     ASSERT_EQ(fields.x_major.size(), static_cast<std::size_t>(fields.stride_x) * w);
     ASSERT_EQ(fields.y_major.size(), static_cast<std::size_t>(fields.stride_y) * h);
-    int wrong = 0, padding = 0;
-    for (int x = 0; x < w; ++x)
-      for (int i = 0; i < fields.stride_x; ++i) {
-        const float v = fields.x_major[static_cast<std::size_t>(x) * fields.stride_x + i];
-        const int y = i - pad;
-        if (y >= 0 && y < h)
-          wrong += v != f.at(x, y);
-        else
-          padding += v != 0.0f;
-      }
-    for (int y = 0; y < h; ++y)
-      for (int i = 0; i < fields.stride_y; ++i) {
-        const float v = fields.y_major[static_cast<std::size_t>(y) * fields.stride_y + i];
-        const int x = i - pad;
-        if (x >= 0 && x < w)
-          wrong += v != f.at(x, y);
-        else
-          padding += v != 0.0f;
-      }
-    EXPECT_EQ(wrong, 0) << w << " x " << h;
-    EXPECT_EQ(padding, 0) << w << " x " << h;
+    EXPECT_EQ(lane_fields_mismatch(fields, f), std::make_pair(0, 0)) << w << " x " << h;
     EXPECT_TRUE(fields.update(f).empty()) << w << " x " << h;
+
+    data::HeightField g = f;
+    g.at(w - 1, 15) += 1.0f;  // the last row of the band of rows 8-15
+    g.at(3, h - 1) -= 2.0f;   // the last (short) band
+    g.at(5, 20) = 0.0f;
+    fields.assign(g);
+    EXPECT_EQ(lane_fields_mismatch(fields, g), std::make_pair(0, 0)) << w << " x " << h;
+    g.at(5, 20) = -0.0f;  // equal as a value, not as bits
+    fields.assign(g);
+    EXPECT_EQ(lane_fields_mismatch(fields, g), std::make_pair(0, 0)) << w << " x " << h;
+    fields.assign(f);
+    EXPECT_EQ(lane_fields_mismatch(fields, f), std::make_pair(0, 0)) << w << " x " << h;
   }
 }
 

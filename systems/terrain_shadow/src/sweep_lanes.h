@@ -35,7 +35,8 @@ struct LaneFields {
   int stride_x = 0, stride_y = 0;
   LaneFields() = default;
   explicit LaneFields(const data::HeightField& f) { assign(f); }
-  void assign(const data::HeightField& f);  // reuses the vectors' storage
+  // Reuses the vectors' storage; rows already held (same bits) are compared, not rewritten.
+  void assign(const data::HeightField& f);
   // The same result as assign(f), writing only the samples whose bits differ from the copy
   // held; returns the smallest rectangle holding them (empty when none), or the whole field when
   // the shape differed (then assign(f) ran).
