@@ -484,24 +484,19 @@ std::pair<int, int> lane_fields_mismatch(const detail::LaneFields& fields,
   auto same = [](float a, float b) {
     return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
   };
-  for (int x = 0; x < w; ++x)
-    for (int i = 0; i < fields.stride_x; ++i) {
-      const float v = fields.x_major[static_cast<std::size_t>(x) * fields.stride_x + i];
-      const int y = i - pad;
-      if (y >= 0 && y < h)
-        wrong += !same(v, f.at(x, y));
-      else
-        padding += v != 0.0f;
-    }
-  for (int y = 0; y < h; ++y)
-    for (int i = 0; i < fields.stride_y; ++i) {
-      const float v = fields.y_major[static_cast<std::size_t>(y) * fields.stride_y + i];
-      const int x = i - pad;
-      if (x >= 0 && x < w)
-        wrong += !same(v, f.at(x, y));
-      else
-        padding += v != 0.0f;
-    }
+  // Copy `c`: `majors` runs of `stride` floats, sample (major, minor) at kGroupLines + minor.
+  auto scan = [&](const std::vector<float>& c, int stride, int majors, int minors, auto sample) {
+    for (int m = 0; m < majors; ++m)
+      for (int i = 0; i < stride; ++i) {
+        const float v = c[static_cast<std::size_t>(m) * stride + i];
+        if (i - pad >= 0 && i - pad < minors)
+          wrong += !same(v, sample(m, i - pad));
+        else
+          padding += v != 0.0f;
+      }
+  };
+  scan(fields.x_major, fields.stride_x, w, h, [&](int x, int y) { return f.at(x, y); });
+  scan(fields.y_major, fields.stride_y, h, w, [&](int y, int x) { return f.at(x, y); });
   return {wrong, padding};
 }
 
