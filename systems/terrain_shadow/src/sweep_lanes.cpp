@@ -39,11 +39,22 @@ static_assert(kGroupLines == 1 << kGroupShift);
 #define PENUMBRA_SWEEP_KERNELS avx512
 #else
 #define PENUMBRA_SWEEP_KERNELS avx2
+namespace {
+
+// Whether row y of the y-major copy holds row y of `f`, bit for bit (not values: -0 and NaNs).
+bool row_held(const LaneFields& fields, const data::HeightField& f, int y) {
+  return std::memcmp(f.heights.data() + static_cast<std::size_t>(y) * f.width,
+                     fields.y_major.data() + static_cast<std::size_t>(y) * fields.stride_y + kPad,
+                     static_cast<std::size_t>(f.width) * sizeof(float)) == 0;
+}
+
+}  // namespace
+
 void LaneFields::assign(const data::HeightField& f) {
   stride_x = f.height + 2 * kPad + 1;
   stride_y = f.width + 2 * kPad + 1;
-  // The padding is zeros; the samples are all overwritten below, so storage of the same shape
-  // is not cleared again (an edit assigns at every call).
+  // The padding is zeros and only samples are written below, so storage of the same shape is
+  // not cleared again (a full sweep assigns at every call).
   const std::size_t nx = static_cast<std::size_t>(f.width) * stride_x;
   const std::size_t ny = static_cast<std::size_t>(f.height) * stride_y;
   const bool kept = x_major.size() == nx && y_major.size() == ny;
@@ -52,18 +63,15 @@ void LaneFields::assign(const data::HeightField& f) {
     y_major.assign(ny, 0.0f);
   }
   // Bands of 8 rows: the rows, then their transposed copy in 8 x 8 blocks transposed in
-  // registers. In parallel bands of 64 rows from 512^2 texels only: at 256^2 the copy takes about
-  // 12 us on one thread, less than two threads' fork and join (docs/terrain_shadow.md, "Eleventh
-  // round"). A band whose rows the copies hold already (bits compared) is only read: rewriting
-  // lines the other threads' caches hold from the last sweep cost 18-87 us at 256^2, the
-  // comparison 7 us ("Twelfth round").
+  // registers; on one thread below 512^2 texels (there the copy costs less than two threads'
+  // fork and join), in parallel bands of 64 rows from there. A band whose rows the copies hold
+  // already is only read: rewriting lines that the other threads' caches hold from the last
+  // sweep costs more than comparing them (docs/terrain_shadow.md, "Eleventh round" and "Twelfth
+  // round").
   auto band = [&](int y0, int y1) {
     if (kept) {
       int y = y0;
-      while (y < y1 && std::memcmp(f.heights.data() + static_cast<std::size_t>(y) * f.width,
-                                   y_major.data() + static_cast<std::size_t>(y) * stride_y + kPad,
-                                   f.width * sizeof(float)) == 0)
-        ++y;
+      while (y < y1 && row_held(*this, f, y)) ++y;
       if (y == y1) return;
     }
     for (int y = y0; y < y1; ++y)
@@ -106,7 +114,7 @@ TexelRect LaneFields::update(const data::HeightField& f) {
   for (int y = 0; y < f.height; ++y) {
     const float* src = f.heights.data() + y * w;
     float* row = y_major.data() + static_cast<std::size_t>(y) * stride_y + kPad;
-    if (std::memcmp(src, row, w * sizeof(float)) == 0) continue;  // bits, not values
+    if (row_held(*this, f, y)) continue;
     for (int x = 0; x < f.width; ++x)
       if (std::bit_cast<std::uint32_t>(src[x]) != std::bit_cast<std::uint32_t>(row[x])) {
         row[x] = src[x];
