@@ -183,5 +183,6 @@ void register_edit();               // edit_bench.cpp
 void register_env_big();            // env_update_bench.cpp: 1024^2
 void register_shade();              // shade_bench.cpp, with its streaming-read baseline
 void register_env_sweep();          // env_update_bench.cpp: speed versus accuracy points
+void register_vcpu_probe(const char* when);  // vcpu_probe_bench.cpp: "start" or "end"
 
 }  // namespace penumbra::terrain_bench

@@ -2,6 +2,7 @@
 // per main case against its baseline, one row per speed-versus-accuracy point, the baselines
 // themselves; the best trade-off; then the records and the chart, when asked for.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <optional>
@@ -110,6 +111,31 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
     pb::Row& row =
         s.add_vs_baseline("sweep: " + c.env.method + " " + c.env.params_text(), "ms", rec.ms,
                           std::nullopt, pb::Goal::none(), rec.floor_ms, err_note(rec.error));
+    row.ratio_def.clear();
+  }
+  // The machine's moment (vcpu_probe_bench.cpp): the slower vCPU's one-thread sweep against
+  // the one-thread floor (half the two-thread peak), both vCPUs' medians in the note.
+  for (const char* when : {"start", "end"}) {
+    const std::string key = std::string("probe/vcpu_sweep/") + when;
+    const auto a = r.counter(key, "ms0"), b = r.counter(key, "ms1");
+    if (!a) continue;
+    const double slow = std::max(std::abs(*a), b ? std::abs(*b) : 0.0);
+    const auto ops = r.counter(key, "ops");
+    std::optional<double> floor;
+    if (ops && ops_per_ns) floor = *ops / (*ops_per_ns / 2) * 1e-6;
+    char buf[200];
+    auto cpu = [&](const char* k) { return static_cast<int>(r.counter(key, k).value_or(-1)); };
+    if (b)
+      std::snprintf(buf, sizeof buf,
+                    "vCPU %d: %.2f ms, vCPU %d: %.2f ms (%.2fx apart), both at once%s", cpu("cpu0"),
+                    std::abs(*a), cpu("cpu1"), std::abs(*b),
+                    std::max(std::abs(*a), std::abs(*b)) / std::min(std::abs(*a), std::abs(*b)),
+                    *a < 0 || *b < 0 ? " (not pinned)" : "");
+    else
+      std::snprintf(buf, sizeof buf, "one CPU only: vCPU %d: %.2f ms", cpu("cpu0"), std::abs(*a));
+    pb::Row& row = s.add_vs_baseline(
+        std::string("machine moment (") + when + "): one-thread sweep, slower vCPU", "ms", slow,
+        std::nullopt, pb::Goal::none(), floor, buf);
     row.ratio_def.clear();
   }
   pb::Row peak;
