@@ -125,14 +125,17 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
     if (ops && ops_per_ns) floor = *ops / (*ops_per_ns / 2) * 1e-6;
     char buf[200];
     auto cpu = [&](const char* k) { return static_cast<int>(r.counter(key, k).value_or(-1)); };
+    auto l2 = [&](const char* k) { return r.counter(key, k).value_or(0); };
     if (b)
       std::snprintf(buf, sizeof buf,
-                    "vCPU %d: %.2f ms, vCPU %d: %.2f ms (%.2fx apart), both at once%s", cpu("cpu0"),
-                    std::abs(*a), cpu("cpu1"), std::abs(*b),
+                    "vCPU %d: %.2f ms, vCPU %d: %.2f ms (%.2fx apart), both at once%s; L2 "
+                    "latency %.1f / %.1f ns",
+                    cpu("cpu0"), std::abs(*a), cpu("cpu1"), std::abs(*b),
                     std::max(std::abs(*a), std::abs(*b)) / std::min(std::abs(*a), std::abs(*b)),
-                    *a < 0 || *b < 0 ? " (not pinned)" : "");
+                    *a < 0 || *b < 0 ? " (not pinned)" : "", l2("l2ns0"), l2("l2ns1"));
     else
-      std::snprintf(buf, sizeof buf, "one CPU only: vCPU %d: %.2f ms", cpu("cpu0"), std::abs(*a));
+      std::snprintf(buf, sizeof buf, "one CPU only: vCPU %d: %.2f ms; L2 latency %.1f ns",
+                    cpu("cpu0"), std::abs(*a), l2("l2ns0"));
     pb::Row& row = s.add_vs_baseline(
         std::string("machine moment (") + when + "): one-thread sweep, slower vCPU", "ms", slow,
         std::nullopt, pb::Goal::none(), floor, buf);

@@ -10,7 +10,10 @@
 // each of the first two CPUs the process may run on, sweeps the bench's field (256^2, 32
 // azimuths) on each kPasses times, both at once, and reports each vCPU's median: the summary
 // shows them against the one-thread floor, so a reader can tell a slow moment from a slower
-// build. Nothing else reads them (no goal, no floor of another case).
+// build. Beside it, a measure our code does not set: the latency of a pointer chase through an
+// L2-sized buffer, which reads 10-35% higher on a vCPU in its slow moments (another thread on
+// the same core, docs/terrain_shadow.md, "Thirteenth round"). Nothing else reads them (no goal,
+// no floor of another case).
 #include <pthread.h>
 #include <sched.h>
 #include <tbb/task_arena.h>
@@ -18,6 +21,8 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <random>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -40,9 +45,36 @@ std::vector<int> allowed_cpus(int n) {
   return cpus;
 }
 
+// Nanoseconds per load of a pointer chase through `bytes` (one load per 64-byte line, in a random
+// cycle; the best of three rounds): a latency that the sweep does not set but that moves with it.
+double chase_ns(std::size_t bytes) {
+  const std::size_t lines = bytes / 64, stride = 64 / sizeof(std::size_t);
+  std::vector<std::size_t> order(lines), next(lines * stride);
+  for (std::size_t i = 0; i < lines; ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), std::mt19937_64(42));
+  for (std::size_t i = 0; i < lines; ++i) next[order[i] * stride] = order[(i + 1) % lines] * stride;
+  std::size_t at = 0;
+  for (std::size_t i = 0; i < lines; ++i) at = next[at];  // into the cache
+  double best = 1e300;
+  constexpr int kLoads = 1 << 18;
+  for (int round = 0; round < 3; ++round) {
+    const auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < kLoads; ++i) at = next[at];
+    const auto t1 = std::chrono::steady_clock::now();
+    best = std::min(best, std::chrono::duration<double, std::nano>(t1 - t0).count() / kLoads);
+  }
+  benchmark::DoNotOptimize(at);
+  return best;
+}
+
+struct VcpuReading {
+  double sweep_ms = 0;  // median; negative: the thread could not be pinned
+  double l2_ns = 0;     // chase_ns over 512 KiB (fits this machine's 1 MiB L2)
+};
+
 // kPasses sweeps on the calling thread (a one-thread arena: TBB's workers stay out), pinned to
-// `cpu`; their median in ms, or a negative value when the thread could not be pinned.
-double median_sweep_ms(int cpu, std::atomic<int>& ready, int threads) {
+// `cpu`, and the L2 latency there just before them.
+VcpuReading read_vcpu(int cpu, std::atomic<int>& ready, int threads) {
   cpu_set_t set;
   CPU_ZERO(&set);
   CPU_SET(cpu, &set);
@@ -55,11 +87,13 @@ double median_sweep_ms(int cpu, std::atomic<int>& ready, int threads) {
   ts::HorizonGrid grid;
   ts::SweepWorkspace workspace;
   std::vector<double> ms;
+  VcpuReading out;
   tbb::task_arena one(1);
   one.execute([&] {
     ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid, workspace);  // warm
     ready.fetch_add(1);
     while (ready.load() < threads) std::this_thread::yield();  // start together
+    out.l2_ns = chase_ns(512 * 1024);
     for (int i = 0; i < kPasses; ++i) {
       const auto t0 = std::chrono::steady_clock::now();
       ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid, workspace);
@@ -68,24 +102,28 @@ double median_sweep_ms(int cpu, std::atomic<int>& ready, int threads) {
     }
   });
   std::nth_element(ms.begin(), ms.begin() + kPasses / 2, ms.end());
-  return pinned ? ms[kPasses / 2] : -ms[kPasses / 2];
+  out.sweep_ms = pinned ? ms[kPasses / 2] : -ms[kPasses / 2];
+  return out;
 }
 
 void BM_VcpuSweep(benchmark::State& state) {
   const std::vector<int> cpus = allowed_cpus(2);
-  std::vector<double> ms(cpus.size(), 0.0);
+  std::vector<VcpuReading> readings(cpus.size());
   for (auto _ : state) {
     std::atomic<int> ready{0};
     std::vector<std::thread> threads;
     const int n = static_cast<int>(cpus.size());
     for (int i = 0; i < n; ++i)
-      threads.emplace_back([&, i] { ms[i] = median_sweep_ms(cpus[i], ready, n); });
+      threads.emplace_back([&, i] { readings[i] = read_vcpu(cpus[i], ready, n); });
     for (std::thread& t : threads) t.join();
   }
-  // Counters: cpuK (the CPU's number) and msK (its median; negative: not pinned), K = 0, 1.
+  // Counters, K = 0, 1: cpuK (the CPU's number), msK (its sweeps' median; negative: not
+  // pinned), l2nsK (its L2 latency).
   for (std::size_t i = 0; i < cpus.size(); ++i) {
-    state.counters["cpu" + std::to_string(i)] = cpus[i];
-    state.counters["ms" + std::to_string(i)] = ms[i];
+    const std::string k = std::to_string(i);
+    state.counters["cpu" + k] = cpus[i];
+    state.counters["ms" + k] = readings[i].sweep_ms;
+    state.counters["l2ns" + k] = readings[i].l2_ns;
   }
   const double pairs = static_cast<double>(kSize) * kSize * 32;
   state.counters["ops"] = pairs * kSweepOpsPerPair;
