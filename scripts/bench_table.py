@@ -528,8 +528,8 @@ TERRAIN_BRIEF = [
     ("local edit 16x16", "brush edit, 16x16 texels"),
     ("shading only", "rotating environment (re-shade from stored transfer)"),
     ("env update 1024^2", "1024x1024, n_phi 64"),
-    ("machine moment (start)", "the machine's moment before the cases: one-thread sweep, slower vCPU"),
-    ("machine moment (end)", "the machine's moment after them"),
+    ("machine moment", "the machine's moment: one-thread sweep on the slower vCPU, worst of the "
+     "probes before each case (each in the note)"),
 ]
 
 

@@ -183,6 +183,9 @@ void register_edit();               // edit_bench.cpp
 void register_env_big();            // env_update_bench.cpp: 1024^2
 void register_shade();              // shade_bench.cpp, with its streaming-read baseline
 void register_env_sweep();          // env_update_bench.cpp: speed versus accuracy points
-void register_vcpu_probe(const char* when);  // vcpu_probe_bench.cpp: "start" or "end"
+// vcpu_probe_bench.cpp: the machine's moment here, as probe/vcpu_sweep/<n> (n: the probes
+// registered before it), `label` saying where ("before the edit"); the labels in order.
+void register_vcpu_probe(const std::string& label);
+std::vector<std::string>& vcpu_probe_labels();
 
 }  // namespace penumbra::terrain_bench

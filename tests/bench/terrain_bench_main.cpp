@@ -8,8 +8,8 @@
 // file per method measured, registered in this order:
 //  - baseline/...  baselines_bench.cpp: vector peak and streaming-read bandwidth measured in
 //                  this run, the units of the floors (terrain_bench_common.h).
-//  - probe/...     vcpu_probe_bench.cpp: the one-thread sweep on each vCPU at once, before the
-//                  goal cases and after the last (env/1024): whether this run met a slow moment.
+//  - probe/...     vcpu_probe_bench.cpp: the one-thread sweep on each vCPU at once, before each
+//                  goal case's group and after the last (env/1024): the moment each one met.
 //  - env/...       env_update_bench.cpp: TerrainShadowing::update(): normals, pyramid (march
 //                  only: the default lights sweep), horizons, transfer. Sweep (default,
 //                  n_phi = 32), march (ls 4, lo 2), brute force (1 iteration). Goal <= 10 ms
@@ -43,14 +43,19 @@ namespace tb = penumbra::terrain_bench;
 
 void register_benchmarks() {
   tb::register_machine_baselines();
-  tb::register_vcpu_probe("start");
+  tb::register_vcpu_probe("env update");
   tb::register_env_cases();
+  tb::register_vcpu_probe("horizons");
   tb::register_horizon_parts();
+  tb::register_vcpu_probe("transfer");
   tb::register_transfer_part();
+  tb::register_vcpu_probe("lights");
   tb::register_lights();
+  tb::register_vcpu_probe("edit");
   tb::register_edit();
+  tb::register_vcpu_probe("1024^2");
   tb::register_env_big();
-  tb::register_vcpu_probe("end");
+  tb::register_vcpu_probe("after 1024^2");
   tb::register_shade();
   tb::register_env_sweep();
 }

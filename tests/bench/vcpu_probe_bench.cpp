@@ -1,7 +1,8 @@
-// Terrain group, the machine's moment: the horizon sweep on one thread per vCPU, both at once.
+// Terrain group, the machine's moment: the horizon sweep on one thread per vCPU, both at once,
+// before each goal case and after the last:
 //
-//   probe/vcpu_sweep/start   before the goal cases
-//   probe/vcpu_sweep/end     after the last of them (1024^2)
+//   probe/vcpu_sweep/0 .. 6   before the environment update, the horizons, the transfer, the
+//                             lights, the edit and 1024^2, then after it (terrain_bench_main.cpp)
 //
 // This machine's two vCPUs are not always equally fast: for spells of seconds to minutes one of
 // them runs the sweep's walk (latency- and branch-bound) 1.3-1.6x slower while the FMA chains
@@ -32,7 +33,7 @@
 namespace penumbra::terrain_bench {
 namespace {
 
-constexpr int kPasses = 9;
+constexpr int kPasses = 5;
 
 // The first `n` CPUs in this process's affinity set (fewer if it has fewer).
 std::vector<int> allowed_cpus(int n) {
@@ -131,8 +132,15 @@ void BM_VcpuSweep(benchmark::State& state) {
 
 }  // namespace
 
-void register_vcpu_probe(const char* when) {
-  pb::add(std::string("probe/vcpu_sweep/") + when, runs(1, 1), BM_VcpuSweep);
+std::vector<std::string>& vcpu_probe_labels() {
+  static std::vector<std::string> labels;
+  return labels;
+}
+
+void register_vcpu_probe(const std::string& label) {
+  pb::add("probe/vcpu_sweep/" + std::to_string(vcpu_probe_labels().size()), runs(1, 1),
+          BM_VcpuSweep);
+  vcpu_probe_labels().push_back(label);
 }
 
 }  // namespace penumbra::terrain_bench
