@@ -5,14 +5,14 @@
 //                             lights, the edit and 1024^2, then after it (terrain_bench_main.cpp)
 //
 // This machine's two vCPUs are not always equally fast: for spells of seconds to minutes one of
-// them runs the sweep's walk (latency- and branch-bound) 1.3-1.6x slower while the FMA chains
+// them runs the sweep's walk (latency- and branch-bound) 1.3-1.8x slower while the FMA chains
 // that set the floor unit slow less or not at all (docs/terrain_shadow.md, "Twelfth round").
 // A run's ratios then read high without any change in the code. The probe pins one thread to
 // each of the first two CPUs the process may run on, sweeps the bench's field (256^2, 32
 // azimuths) on each kPasses times, both at once, and reports each vCPU's median: the summary
 // shows them against the one-thread floor, so a reader can tell a slow moment from a slower
 // build. Beside it, a measure our code does not set: the latency of a pointer chase through an
-// L2-sized buffer, which reads 10-35% higher on a vCPU in its slow moments (another thread on
+// L2-sized buffer, which reads 10-40% higher on a vCPU in its slow moments (another thread on
 // the same core, docs/terrain_shadow.md, "Thirteenth round"). Nothing else reads them (no goal,
 // no floor of another case).
 #include <pthread.h>
@@ -75,12 +75,12 @@ struct VcpuReading {
 
 // kPasses sweeps on the calling thread (a one-thread arena: TBB's workers stay out), pinned to
 // `cpu`, and the L2 latency there just before them.
-VcpuReading read_vcpu(int cpu, std::atomic<int>& ready, int threads) {
+VcpuReading read_vcpu(const data::HeightField& field, int cpu, std::atomic<int>& ready,
+                      int threads) {
   cpu_set_t set;
   CPU_ZERO(&set);
   CPU_SET(cpu, &set);
   const bool pinned = pthread_setaffinity_np(pthread_self(), sizeof set, &set) == 0;
-  const auto field = scene_field(kSize);
   ts::HorizonParams p;
   p.azimuths = 32;
   p.height_scale = tbr::kHeightScale;
@@ -91,13 +91,13 @@ VcpuReading read_vcpu(int cpu, std::atomic<int>& ready, int threads) {
   VcpuReading out;
   tbb::task_arena one(1);
   one.execute([&] {
-    ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid, workspace);  // warm
+    ts::sweep_horizons(field, p, ts::TexelRect::all(field), grid, workspace);  // warm
     ready.fetch_add(1);
     while (ready.load() < threads) std::this_thread::yield();  // start together
     out.l2_ns = chase_ns(512 * 1024);
     for (int i = 0; i < kPasses; ++i) {
       const auto t0 = std::chrono::steady_clock::now();
-      ts::sweep_horizons(*field, p, ts::TexelRect::all(*field), grid, workspace);
+      ts::sweep_horizons(field, p, ts::TexelRect::all(field), grid, workspace);
       const auto t1 = std::chrono::steady_clock::now();
       ms.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     }
@@ -109,13 +109,14 @@ VcpuReading read_vcpu(int cpu, std::atomic<int>& ready, int threads) {
 
 void BM_VcpuSweep(benchmark::State& state) {
   const std::vector<int> cpus = allowed_cpus(2);
+  const auto field = scene_field(kSize);  // here: scene_field is not thread-safe
   std::vector<VcpuReading> readings(cpus.size());
   for (auto _ : state) {
     std::atomic<int> ready{0};
     std::vector<std::thread> threads;
     const int n = static_cast<int>(cpus.size());
     for (int i = 0; i < n; ++i)
-      threads.emplace_back([&, i] { readings[i] = read_vcpu(cpus[i], ready, n); });
+      threads.emplace_back([&, i] { readings[i] = read_vcpu(*field, cpus[i], ready, n); });
     for (std::thread& t : threads) t.join();
   }
   // Counters, K = 0, 1: cpuK (the CPU's number), msK (its sweeps' median; negative: not
