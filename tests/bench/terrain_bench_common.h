@@ -184,7 +184,8 @@ void register_env_big();            // env_update_bench.cpp: 1024^2
 void register_shade();              // shade_bench.cpp, with its streaming-read baseline
 void register_env_sweep();          // env_update_bench.cpp: speed versus accuracy points
 // vcpu_probe_bench.cpp: the machine's moment here, as probe/vcpu_sweep/<n> (n: the probes
-// registered before it), `label` saying where ("before the edit"); the labels in order.
+// registered before it), `label` naming the cases that follow ("edit") or "after ..."; the
+// labels in order.
 void register_vcpu_probe(const std::string& label);
 std::vector<std::string>& vcpu_probe_labels();
 

@@ -114,21 +114,25 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
     row.ratio_def.clear();
   }
   // The machine's moment (vcpu_probe_bench.cpp): each probe's slower vCPU against the one-thread
-  // floor (half the two-thread peak) and its L2 latency, in the note; the worst probe as the value.
+  // floor (the peak over its threads) and its L2 latency, in the note; the worst probe as the
+  // value.
   {
     const auto& labels = vcpu_probe_labels();
     std::string note = "slower vCPU / one-thread floor and its L2 latency, before: ";
     std::optional<double> worst, floor;
     double apart = 1;
+    bool one_cpu = false, unpinned = false;
     for (std::size_t i = 0; i < labels.size(); ++i) {
       const std::string key = "probe/vcpu_sweep/" + std::to_string(i);
       const auto a = r.counter(key, "ms0"), b = r.counter(key, "ms1");
       const auto ops = r.counter(key, "ops");
       if (!a || !ops || !ops_per_ns) continue;
       const double ms0 = std::abs(*a), ms1 = b ? std::abs(*b) : ms0;
+      one_cpu |= !b;
+      unpinned |= *a < 0 || (b && *b < 0);  // negative: that thread could not be pinned
       const double slow = std::max(ms0, ms1);
       const double l2 = (ms1 > ms0 ? r.counter(key, "l2ns1") : r.counter(key, "l2ns0")).value_or(0);
-      floor = *ops / (*ops_per_ns / 2) * 1e-6;
+      floor = *ops / (*ops_per_ns / r.counter(key, "peak_threads").value_or(2)) * 1e-6;
       worst = std::max(worst.value_or(0), slow);
       apart = std::max(apart, slow / std::min(ms0, ms1));
       char buf[96];
@@ -138,7 +142,8 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
     }
     char buf[96];
     std::snprintf(buf, sizeof buf, "; the two vCPUs up to %.2fx apart", apart);
-    note += buf;
+    note += one_cpu ? "; one CPU only" : buf;
+    if (unpinned) note += " (not pinned)";
     if (worst) {
       pb::Row& row = s.add_vs_baseline("machine moment: one-thread sweep, slower vCPU, worst probe",
                                        "ms", worst, std::nullopt, pb::Goal::none(), floor, note);

@@ -120,7 +120,7 @@ void BM_VcpuSweep(benchmark::State& state) {
     for (std::thread& t : threads) t.join();
   }
   // Counters, K = 0, 1: cpuK (the CPU's number), msK (its sweeps' median; negative: not
-  // pinned), l2nsK (its L2 latency).
+  // pinned), l2nsK (its L2 latency); ops and peak_threads for the one-thread floor.
   for (std::size_t i = 0; i < cpus.size(); ++i) {
     const std::string k = std::to_string(i);
     state.counters["cpu" + k] = cpus[i];
@@ -129,6 +129,8 @@ void BM_VcpuSweep(benchmark::State& state) {
   }
   const double pairs = static_cast<double>(kSize) * kSize * 32;
   state.counters["ops"] = pairs * kSweepOpsPerPair;
+  // The threads the vector peak runs on (TBB's default arena): one thread's share of it.
+  state.counters["peak_threads"] = tbb::this_task_arena::max_concurrency();
 }
 
 }  // namespace
