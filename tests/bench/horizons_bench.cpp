@@ -29,14 +29,6 @@ void BM_Pyramid(benchmark::State& state) {
   set_work(state, samples * kPyramidOpsPerSample, samples * 4);
 }
 
-ts::HorizonParams env_horizon_params(int n_phi) {
-  ts::HorizonParams p;
-  p.azimuths = n_phi;
-  p.height_scale = tbr::kHeightScale;
-  p.clamp_at_zero = true;
-  return p;
-}
-
 void BM_HorizonsSweep(benchmark::State& state) {
   const auto field = scene_field(kSize);
   const ts::HorizonParams p = env_horizon_params(32);

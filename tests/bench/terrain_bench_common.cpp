@@ -49,6 +49,14 @@ void set_work(benchmark::State& state, double ops, double bytes) {
   state.counters["bytes"] = bytes;
 }
 
+ts::HorizonParams env_horizon_params(int n_phi) {
+  ts::HorizonParams p;
+  p.azimuths = n_phi;
+  p.height_scale = tbr::kHeightScale;
+  p.clamp_at_zero = true;
+  return p;
+}
+
 std::shared_ptr<const data::HeightField> scene_field(int size) {
   static std::map<int, std::shared_ptr<const data::HeightField>> cache;
   auto& f = cache[size];

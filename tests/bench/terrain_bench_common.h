@@ -104,7 +104,11 @@ float stream_read(const float* p, std::size_t n);
 // ---------------------------------------------------------------------------------------------
 // Scene and environment
 
-// The scene at size x size, loaded once per size.
+// The environment's horizons as the update sweeps them (n_phi azimuths, clamped at zero).
+ts::HorizonParams env_horizon_params(int n_phi);
+
+// The scene at size x size, loaded once per size (not thread-safe: call it from the
+// benchmark's thread).
 std::shared_ptr<const data::HeightField> scene_field(int size);
 
 template <int N>

@@ -81,10 +81,7 @@ VcpuReading read_vcpu(const data::HeightField& field, int cpu, std::atomic<int>&
   CPU_ZERO(&set);
   CPU_SET(cpu, &set);
   const bool pinned = pthread_setaffinity_np(pthread_self(), sizeof set, &set) == 0;
-  ts::HorizonParams p;
-  p.azimuths = 32;
-  p.height_scale = tbr::kHeightScale;
-  p.clamp_at_zero = true;
+  const ts::HorizonParams p = env_horizon_params(32);
   ts::HorizonGrid grid;
   ts::SweepWorkspace workspace;
   std::vector<double> ms;
