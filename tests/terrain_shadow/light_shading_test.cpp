@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -26,6 +27,7 @@
 #include "penumbra/systems/terrain_shadow/terrain_shadowing.h"
 
 #include "common/stability.h"
+#include "sweep_lanes.h"
 #include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
@@ -321,31 +323,36 @@ TEST(LightShading, SingleDirectionMarchEqualsTheRowMarch) {
 
 // Eight receivers at once, with one or three horizon samples: the lanes it closes agree with
 // make_light_cap + cap_transfer, and it hands back only wide caps (and, deferring, lit lanes).
+// Lane l of `in` (CapLanes or CapLanes16): a receiver from inside the light (every 50th
+// trial) to 150 m away, below and above it, with a tilted normal; horizons near the cap (all
+// cases), `samples` of them a little apart across it.
+template <class Lanes, class Horizon>
+void random_receiver(std::mt19937& rng, int trial, Lanes& in, int l, Horizon horizon, int samples) {
+  std::uniform_real_distribution<float> u01(0, 1);
+  const float dist = trial % 50 == 0 ? 1.5f : 2.5f + 150 * u01(rng) * u01(rng);
+  const float e = -0.4f + 1.9f * u01(rng), phi = 2 * kPi * u01(rng);
+  in.dx[l] = dist * std::cos(e) * std::cos(phi);
+  in.dy[l] = dist * std::cos(e) * std::sin(phi);
+  in.dz[l] = dist * std::sin(e);
+  const glm::vec3 n = glm::normalize(
+      glm::vec3(2.0f * (u01(rng) - 0.5f), 2.0f * (u01(rng) - 0.5f), 1.0f - 0.8f * u01(rng)));
+  in.nx[l] = n.x;
+  in.ny[l] = n.y;
+  in.nz[l] = n.z;
+  horizon(0) = e + (u01(rng) - 0.5f) * 0.2f;
+  for (int k = 1; k < samples; ++k) horizon(k) = horizon(0) + (u01(rng) - 0.5f) * 0.1f;
+}
+
 TEST(LightShading, CapTransferOnEightLanesEqualsOneAtATime) {
   std::mt19937 rng(5);
-  std::uniform_real_distribution<float> u01(0, 1);
   const float radius = 2.0f, wide = 0.2f;
   float worst = 0;
   int chords = 0, cut_chords = 0, handed_back = 0, zero = 0;
   for (int trial = 0; trial < 4000; ++trial) {
     CapLanes in;
-    for (int l = 0; l < 8; ++l) {
-      // Receivers from inside the light to 150 m away, below and above it, tilted normals.
-      const float dist = trial % 50 == 0 ? 1.5f : 2.5f + 150 * u01(rng) * u01(rng);
-      const float e = -0.4f + 1.9f * u01(rng), phi = 2 * kPi * u01(rng);
-      in.dx[l] = dist * std::cos(e) * std::cos(phi);
-      in.dy[l] = dist * std::cos(e) * std::sin(phi);
-      in.dz[l] = dist * std::sin(e);
-      const glm::vec3 n = glm::normalize(
-          glm::vec3(2.0f * (u01(rng) - 0.5f), 2.0f * (u01(rng) - 0.5f), 1.0f - 0.8f * u01(rng)));
-      in.nx[l] = n.x;
-      in.ny[l] = n.y;
-      in.nz[l] = n.z;
-      // Near the cap: all cases; every third trial three samples across the cap.
-      in.horizon[0][l] = e + (u01(rng) - 0.5f) * 0.2f;
-      in.horizon[1][l] = in.horizon[0][l] + (u01(rng) - 0.5f) * 0.1f;
-      in.horizon[2][l] = in.horizon[0][l] + (u01(rng) - 0.5f) * 0.1f;
-    }
+    for (int l = 0; l < 8; ++l)  // every third trial three samples across the cap
+      random_receiver(
+          rng, trial, in, l, [&](int k) -> float& { return in.horizon[k][l]; }, 3);
     in.count = trial % 3 == 0 ? 3 : 1;
     for (const bool defer : {true, false}) {
       float got[8];
@@ -387,6 +394,54 @@ TEST(LightShading, CapTransferOnEightLanesEqualsOneAtATime) {
   // Measured worst 9.3e-6 of pi rho^2 (tolerance 2e-5; lanes and one lane round sin_e apart).
   std::printf("cap_transfer8 vs cap_transfer: worst %.2e of pi rho^2; %d chords, %d cut, %d zero\n",
               worst, chords, cut_chords, zero);
+}
+
+// cap_first_pass16 is cap_transfer8's first pass on two halves, bit for bit: the AVX-512
+// kernel where the CPU has it, and the fallback (two cap_transfer8 calls) forced.
+TEST(LightShading, FirstPassOnSixteenLanesGivesEightLanesBits) {
+  std::mt19937 rng(11);
+  const float radius = 2.0f, wide = 0.2f;
+  int compared = 0, handed_back = 0, lit = 0;
+  const bool avx512 = detail::sweep_isa() == detail::SweepIsa::kAvx512;
+  for (int trial = 0; trial < 3000; ++trial) {
+    CapLanes16 in;
+    for (int l = 0; l < 16; ++l)
+      random_receiver(
+          rng, trial, in, l, [&](int) -> float& { return in.horizon[l]; }, 1);
+    if (trial % 7 == 0) in.horizon[trial % 16] = std::numeric_limits<float>::quiet_NaN();
+    float want[16];
+    unsigned want_other = 0;
+    for (int half = 0; half < 2; ++half) {
+      CapLanes h;
+      for (int l = 0; l < 8; ++l) {
+        const int q = 8 * half + l;
+        h.dx[l] = in.dx[q], h.dy[l] = in.dy[q], h.dz[l] = in.dz[q];
+        h.nx[l] = in.nx[q], h.ny[l] = in.ny[q], h.nz[l] = in.nz[q];
+        h.horizon[0][l] = in.horizon[q];
+      }
+      want_other |= cap_transfer8(h, radius, wide, 8, true, want + 8 * half) << (8 * half);
+    }
+    for (const detail::SweepIsa isa : {detail::SweepIsa::kAvx2, detail::SweepIsa::kAvx512}) {
+      detail::force_sweep_isa(isa);
+      float got[16];
+      const unsigned other = cap_first_pass16(in, radius, wide, got);
+      detail::force_sweep_isa(std::nullopt);
+      ASSERT_EQ(other, want_other) << "trial " << trial;
+      for (int l = 0; l < 16; ++l)
+        ASSERT_EQ(std::memcmp(&got[l], &want[l], sizeof(float)), 0)
+            << "trial " << trial << " lane " << l << ": " << got[l] << " vs " << want[l];
+      compared += 16;
+    }
+    handed_back += std::popcount(want_other);
+    for (const float v : want) lit += v > 0;
+  }
+  EXPECT_GT(handed_back, 5000);  // measured 10,019
+  EXPECT_GT(lit, 10000);         // measured 19,915
+  std::printf(
+      "cap_first_pass16 vs cap_transfer8: %d lanes bit for bit (%s), %d handed back, "
+      "%d lit\n",
+      compared, avx512 ? "AVX-512 and fallback" : "fallback only: no AVX-512 here", handed_back,
+      lit);
 }
 
 // The radial sweep gives ray_horizon towards the foot on its lines, and close to it between.

@@ -10,6 +10,7 @@
 
 #include "cap_chords.h"
 #include "fast_math.h"
+#include "sweep_lanes.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -346,6 +347,31 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
   }
   return other;
 #endif
+}
+
+#ifdef __AVX2__
+namespace detail::avx512 {
+unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e);  // its file
+}  // namespace detail::avx512
+#endif
+
+unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e) {
+#ifdef __AVX2__
+  if (detail::sweep_isa() == detail::SweepIsa::kAvx512)
+    return detail::avx512::cap_first_pass16(in, radius, wide, e);
+#endif
+  unsigned other = 0;
+  for (int half = 0; half < 2; ++half) {
+    CapLanes lanes;
+    const int o = 8 * half;
+    std::copy_n(in.dx + o, 8, lanes.dx), std::copy_n(in.dy + o, 8, lanes.dy);
+    std::copy_n(in.dz + o, 8, lanes.dz), std::copy_n(in.nx + o, 8, lanes.nx);
+    std::copy_n(in.ny + o, 8, lanes.ny), std::copy_n(in.nz + o, 8, lanes.nz);
+    std::copy_n(in.horizon + o, 8, lanes.horizon[0]);
+    lanes.count = 1;  // the first pass: the strips are not used
+    other |= cap_transfer8(lanes, radius, wide, 1, true, e + o) << o;
+  }
+  return other;
 }
 
 }  // namespace penumbra::terrain_shadow

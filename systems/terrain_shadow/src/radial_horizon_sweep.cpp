@@ -1,6 +1,7 @@
 #include "penumbra/systems/terrain_shadow/radial_horizon_sweep.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -79,8 +80,13 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
   foot_ = foot / f.cell_size;
   foot_inside_ = foot_.x >= 0 && foot_.y >= 0 && foot_.x <= static_cast<float>(f.width - 1) &&
                  foot_.y <= static_cast<float>(f.height - 1);
+  // Each side's groups of lines, then one parallel loop over all four sides' groups (a loop per
+  // side waited for its slowest group four times).
+  std::array<detail::RadialGroup, 4> bases;
+  std::array<int, 5> group_start{};
   for (int index = 0; index < 4; ++index) {
     Side& side = sides_[index];
+    group_start[index + 1] = group_start[index];
     side.x_major = index < 2;
     side.sign = index % 2 == 0 ? 1 : -1;
     const int size_u = side.x_major ? f.width : f.height;
@@ -119,10 +125,11 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
     side.j_lo = static_cast<int>(j_lo);
     side.lines = static_cast<int>(j_hi - j_lo) + 1;
     const int groups = (side.lines + detail::kRadialLanes - 1) / detail::kRadialLanes;
+    group_start[index + 1] += groups;
     side.angle.resize(static_cast<std::size_t>(groups) * detail::kRadialLanes * side.columns);
     side.line_end.clear();
     if (!regions.empty()) limit_lines(side, regions);
-    detail::RadialGroup base;
+    detail::RadialGroup& base = bases[index];
     base.heights = f.heights.data();
     base.stride_u = side.x_major ? 1 : f.width;
     base.stride_v = side.x_major ? f.width : 1;
@@ -132,45 +139,51 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
     base.v0 = v0;
     base.r_near = r_near;
     base.height_scale = height_scale;
-    const double v_max = size_v - 1;
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, groups), [&](const tbb::blocked_range<int>& range) {
-          thread_local detail::RadialScratch scratch;
-          for (int group = range.begin(); group < range.end(); ++group) {
-            detail::RadialGroup g = base;
-            for (int l = 0; l < detail::kRadialLanes; ++l) {
-              const int line = group * detail::kRadialLanes + l;
-              if (line >= side.lines) continue;  // first == end == 0
-              const double m = (j_lo + line) / lines_per_slope;
-              g.m[l] = m;
-              g.inv_metres[l] = static_cast<float>(1 / (std::sqrt(1 + m * m) * f.cell_size));
-              const int columns = side.line_end.empty()
-                                      ? side.columns
-                                      : side.line_end[static_cast<std::size_t>(line)];
-              // Columns whose point v = v0 + (r_near + k) m lies in [0, size_v - 1] (within 1e-5).
-              double k_min = 0, k_max = columns - 1;
-              if (m != 0) {
-                const double k_a = (-1e-5 - v0) / m - r_near,
-                             k_b = (v_max + 1e-5 - v0) / m - r_near;
-                k_min = std::max(k_min, std::ceil(std::min(k_a, k_b)));
-                k_max = std::min(k_max, std::floor(std::max(k_a, k_b)));
-              } else if (!(v0 > -1e-5 && v0 < v_max + 1e-5)) {
-                k_max = -1;
-              }
-              g.first[l] = static_cast<int>(std::min(k_min, static_cast<double>(columns)));
-              g.end[l] = std::max(g.first[l], static_cast<int>(k_max) + 1);
-              g.width = std::max(g.width, columns);
-            }
-            if (g.width == 0) continue;  // no line of the group serves a region
-            float* block = side.angle.data() +
-                           static_cast<std::size_t>(group) * detail::kRadialLanes * side.columns;
-            detail::sweep_radial_group_lanes(g, scratch, block);
-            // Slopes to angles; -inf (nothing in between) gives -pi/2, NaN stays NaN.
-            detail::fast_atan_array(block,
-                                    static_cast<std::size_t>(g.width) * detail::kRadialLanes);
-          }
-        });
   }
+  // One group of side `index`: its lines' slopes and columns, the walk, slopes to angles.
+  auto sweep_group = [&](int index, int group, detail::RadialScratch& scratch) {
+    const Side& side = sides_[index];
+    const detail::RadialGroup& base = bases[index];
+    const double v_max = base.size_v - 1, v0 = base.v0, r_near = base.r_near;
+    const double lines_per_slope = side.lines_per_slope, j_lo = side.j_lo;
+    detail::RadialGroup g = base;
+    for (int l = 0; l < detail::kRadialLanes; ++l) {
+      const int line = group * detail::kRadialLanes + l;
+      if (line >= side.lines) continue;  // first == end == 0
+      const double m = (j_lo + line) / lines_per_slope;
+      g.m[l] = m;
+      g.inv_metres[l] = static_cast<float>(1 / (std::sqrt(1 + m * m) * f.cell_size));
+      const int columns =
+          side.line_end.empty() ? side.columns : side.line_end[static_cast<std::size_t>(line)];
+      // Columns whose point v = v0 + (r_near + k) m lies in [0, size_v - 1] (within 1e-5).
+      double k_min = 0, k_max = columns - 1;
+      if (m != 0) {
+        const double k_a = (-1e-5 - v0) / m - r_near, k_b = (v_max + 1e-5 - v0) / m - r_near;
+        k_min = std::max(k_min, std::ceil(std::min(k_a, k_b)));
+        k_max = std::min(k_max, std::floor(std::max(k_a, k_b)));
+      } else if (!(v0 > -1e-5 && v0 < v_max + 1e-5)) {
+        k_max = -1;
+      }
+      g.first[l] = static_cast<int>(std::min(k_min, static_cast<double>(columns)));
+      g.end[l] = std::max(g.first[l], static_cast<int>(k_max) + 1);
+      g.width = std::max(g.width, columns);
+    }
+    if (g.width == 0) return;  // no line of the group serves a region
+    float* block = sides_[index].angle.data() +
+                   static_cast<std::size_t>(group) * detail::kRadialLanes * side.columns;
+    detail::sweep_radial_group_lanes(g, scratch, block);
+    // Slopes to angles; -inf (nothing in between) gives -pi/2, NaN stays NaN.
+    detail::fast_atan_array(block, static_cast<std::size_t>(g.width) * detail::kRadialLanes);
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, group_start[4]),
+                    [&](const tbb::blocked_range<int>& range) {
+                      thread_local detail::RadialScratch scratch;
+                      int index = 0;
+                      for (int at = range.begin(); at < range.end(); ++at) {
+                        while (at >= group_start[index + 1]) ++index;
+                        sweep_group(index, at - group_start[index], scratch);
+                      }
+                    });
 }
 
 float RadialHorizonSweep::horizon(int x, int y) const {

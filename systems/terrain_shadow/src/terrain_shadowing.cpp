@@ -516,9 +516,10 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         for (int x = spans[si].x0; x < spans[si].x1; ++x) shade(x, spans[si].y);
       return;
     }
-    // With the sweep, eight receivers at a time (cap_transfer8): the closed cases first, then
-    // the receivers that need chords gathered and passed again eight at a time, wide caps with
-    // their cap_horizons samples (the middle one, tau = 0, is the foot's direction: the sweep's).
+    // With the sweep, sixteen receivers at a time (cap_first_pass16): the closed cases first,
+    // then the receivers that need chords gathered and passed again eight at a time
+    // (cap_transfer8), wide caps with their cap_horizons samples (the middle one, tau = 0, is the
+    // foot's direction: the sweep's).
     const int samples = config_.cap_horizons;
     const int middle = samples % 2 == 1 ? samples / 2 : -1;
     // Two queues, kept across the task's spans: caps the tangent plane cuts (|n.d| < radius:
@@ -549,7 +550,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       qu.queued = 0;
       qu.varied = false;
     };
-    auto enqueue = [&](const CapLanes& lanes, int l, int x, int y) {
+    auto enqueue = [&](const CapLanes16& lanes, int l, int x, int y) {
       const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
       const glm::vec3 n(lanes.nx[l], lanes.ny[l], lanes.nz[l]);
       Queue& qu = queues[std::abs(glm::dot(n, d)) < radius ? 1 : 0];
@@ -557,7 +558,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
       const int q = qu.queued;
       batch.dx[q] = lanes.dx[l], batch.dy[q] = lanes.dy[l], batch.dz[q] = lanes.dz[l];
       batch.nx[q] = lanes.nx[l], batch.ny[q] = lanes.ny[l], batch.nz[q] = lanes.nz[l];
-      const float swept = lanes.horizon[0][l];
+      const float swept = lanes.horizon[l];
       for (int k = 0; k < samples; ++k) batch.horizon[k][q] = swept;
       LightCap cap;
       if (radius * radius >= config_.cap_wide * config_.cap_wide * glm::dot(d, d) &&
@@ -580,27 +581,28 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     for (std::size_t si = s0; si < s1; ++si) {
       const Span& span = spans[si];
       const int y = span.y;
-      for (int x0 = span.x0; x0 < span.x1; x0 += 8) {
-        const int n = std::min(8, span.x1 - x0);
-        CapLanes lanes;
-        if (n == 8) {
-          radial_.horizons8(x0, y, lanes.horizon[0]);
+      for (int x0 = span.x0; x0 < span.x1; x0 += 16) {
+        const int n = std::min(16, span.x1 - x0);
+        CapLanes16 lanes;
+        if (n == 16) {
+          radial_.horizons8(x0, y, lanes.horizon);
+          radial_.horizons8(x0 + 8, y, lanes.horizon + 8);
           // centre - position(x, y) (as for a span's last receivers below), in loops the
           // compiler puts on vector lanes.
           const std::size_t i0 = static_cast<std::size_t>(y) * f.width + x0;
           const float dy = centre.y - static_cast<float>(y) * f.cell_size;
-          for (int l = 0; l < 8; ++l) {
+          for (int l = 0; l < 16; ++l) {
             lanes.dx[l] = centre.x - static_cast<float>(x0 + l) * f.cell_size;
             lanes.dy[l] = dy;
             lanes.dz[l] = centre.z - height_scale_ * f.heights[i0 + l];
           }
-          for (int l = 0; l < 8; ++l) {
+          for (int l = 0; l < 16; ++l) {
             lanes.nx[l] = normals_[i0 + l].x;
             lanes.ny[l] = normals_[i0 + l].y;
             lanes.nz[l] = normals_[i0 + l].z;
           }
         } else {
-          for (int l = 0; l < 8; ++l) {
+          for (int l = 0; l < 16; ++l) {
             const int x = x0 + std::min(l, n - 1);  // padding lanes repeat the last receiver
             const std::size_t i = static_cast<std::size_t>(y) * f.width + x;
             const glm::vec3 d = centre - position(x, y);
@@ -610,15 +612,15 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
             lanes.nx[l] = normals_[i].x;
             lanes.ny[l] = normals_[i].y;
             lanes.nz[l] = normals_[i].z;
-            lanes.horizon[0][l] = l < n ? radial_.horizon(x, y) : 0.0f;
+            lanes.horizon[l] = l < n ? radial_.horizon(x, y) : 0.0f;
           }
         }
-        float e[8];
-        const unsigned other =
-            cap_transfer8(lanes, radius, config_.cap_wide, config_.cap_strips, true, e);
+        float e[16];
+        const unsigned other = cap_first_pass16(lanes, radius, config_.cap_wide, e);
         glm::vec3* out = irradiance.data() + static_cast<std::size_t>(y) * f.width + x0;
-        if (n == 8 && other == 0) {
+        if (n == 16 && other == 0) {
           add_lit8(radiance, e, out);
+          add_lit8(radiance, e + 8, out + 8);
           continue;
         }
         for (int l = 0; l < n; ++l) {

@@ -84,4 +84,15 @@ struct CapLanes {
 unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips, bool defer_chords,
                        float* e);
 
+// A light's first pass over its receivers, sixteen at once: cap_transfer8 with one horizon
+// sample and defer_chords on lanes 0-7 and 8-15, the same floats and the same bits set (tested
+// bit for bit). One AVX-512 kernel where the CPU has it (sweep_lanes.h's sweep_isa(); on the
+// 512-bit lanes its chain of square roots, divisions and polynomials serves sixteen receivers
+// in the time eight took), else two cap_transfer8 calls.
+struct CapLanes16 {
+  float dx[16], dy[16], dz[16], nx[16], ny[16], nz[16];
+  float horizon[16];
+};
+unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e);
+
 }  // namespace penumbra::terrain_shadow

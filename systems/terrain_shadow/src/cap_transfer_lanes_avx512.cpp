@@ -1,0 +1,172 @@
+// cap_first_pass16's AVX-512 kernel (cap_transfer.h): cap_lanes8<true> and front_lens8 of
+// cap_transfer_lanes.cpp on sixteen lanes, operation for operation (so the same floats), the
+// lane masks in mask registers. Chosen at run time by cap_first_pass16 (sweep_isa()).
+#include "penumbra/systems/terrain_shadow/cap_transfer.h"
+
+#include <cstddef>
+
+#include "fast_math.h"
+
+#ifdef __AVX2__
+#include "avx512_target_begin.h"  // to avx512_target_end.h below
+
+#include <immintrin.h>
+
+namespace penumbra::terrain_shadow::detail::avx512 {
+namespace {
+
+// sqrt, max and min through their zero-masking forms with every lane set (the same
+// instructions): GCC 12 warns that the plain forms' undefined pass-through is uninitialized.
+[[gnu::always_inline]] inline __m512 sqrt16(__m512 x) {
+  return _mm512_maskz_sqrt_ps(0xffff, x);
+}
+[[gnu::always_inline]] inline __m512 max16(__m512 a, __m512 b) {
+  return _mm512_maskz_max_ps(0xffff, a, b);
+}
+[[gnu::always_inline]] inline __m512 min16(__m512 a, __m512 b) {
+  return _mm512_maskz_min_ps(0xffff, a, b);
+}
+
+// fast_math.h's 8-lane polynomials on 16 lanes, the same coefficients in the same order.
+template <std::size_t K>
+[[gnu::always_inline]] inline __m512 horner16(__m512 x, const float (&c)[K]) {
+  __m512 p = _mm512_set1_ps(c[0]);
+  for (std::size_t i = 1; i < K; ++i) p = _mm512_fmadd_ps(p, x, _mm512_set1_ps(c[i]));
+  return p;
+}
+
+[[gnu::always_inline]] inline __m512 fast_atan_unit16(__m512 z) {
+  return _mm512_mul_ps(z, horner16(_mm512_mul_ps(z, z), kAtanPoly));
+}
+
+[[gnu::always_inline]] inline __m512 fast_sin16(__m512 x) {
+  static constexpr float c[] = {-2.50521084e-8f, 2.75573192e-6f, -1.98412698e-4f, 8.33333333e-3f,
+                                -1.66666667e-1f};
+  const __m512 x2 = _mm512_mul_ps(x, x);
+  return _mm512_fmadd_ps(_mm512_mul_ps(x, x2), horner16(x2, c), x);
+}
+
+[[gnu::always_inline]] inline __m512 fast_cos16(__m512 x) {
+  static constexpr float c[] = {2.08767570e-9f,
+                                -2.75573192e-7f,
+                                2.48015873e-5f,
+                                -1.38888889e-3f,
+                                4.16666667e-2f,
+                                -0.5f,
+                                1.0f};
+  return horner16(_mm512_mul_ps(x, x), c);
+}
+
+[[gnu::always_inline]] inline __m512 sign_bits(__m512 x) {
+  return _mm512_castsi512_ps(
+      _mm512_and_si512(_mm512_castps_si512(x), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+}
+
+// fast_atan_ratio8: atan(num / den) for den > 0 with one division.
+[[gnu::always_inline]] inline __m512 fast_atan_ratio16(__m512 num, __m512 den) {
+  const __m512 a = _mm512_abs_ps(num);
+  const __mmask16 inv = _mm512_cmp_ps_mask(a, den, _CMP_GT_OQ);
+  const __m512 r = fast_atan_unit16(_mm512_div_ps(min16(a, den), max16(a, den)));
+  const __m512 t = _mm512_mask_blend_ps(inv, r, _mm512_sub_ps(_mm512_set1_ps(1.57079632679f), r));
+  return _mm512_or_ps(t, sign_bits(num));
+}
+
+// front_lens8 (cap_chords.h's lens) on 16 lanes.
+[[gnu::always_inline]] inline __m512 front_lens16(__m512 rho, __m512 cos_half, __m512 nc, __m512 nz,
+                                                  __m512 nw, __m512 nu, __m512 sin_e, __m512 cos_e,
+                                                  __m512 omega, __m512 sin_o) {
+  const __m512 one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps(), half = _mm512_set1_ps(0.5f);
+  const __m512 two = _mm512_set1_ps(2.0f), tiny = _mm512_set1_ps(1e-30f);
+  const __m512 rho2 = _mm512_mul_ps(rho, rho);
+  const __m512 omc = _mm512_div_ps(rho2, _mm512_add_ps(one, cos_half));  // 1 - cos(beta)
+  const __m512 cos_o = fast_cos16(omega);
+  const __m512 d_sin = _mm512_sub_ps(sin_o, sin_e), d_cos = _mm512_sub_ps(cos_e, cos_o);
+  const __m512 cphi = min16(max16(_mm512_div_ps(_mm512_fmadd_ps(sin_e, omc, d_sin),
+                                                max16(_mm512_mul_ps(rho, cos_e), tiny)),
+                                  _mm512_set1_ps(-1.0f)),
+                            one);
+  const __m512 sphi =
+      sqrt16(max16(_mm512_mul_ps(_mm512_sub_ps(one, cphi), _mm512_add_ps(one, cphi)), zero));
+  const __m512 phi = _mm512_sub_ps(_mm512_set1_ps(kHalfPi), fast_atan_ratio16(cphi, sphi));
+  const __m512 chord2 = _mm512_fmadd_ps(d_sin, d_sin, _mm512_mul_ps(d_cos, d_cos));
+  const __m512 k = min16(max16(_mm512_div_ps(_mm512_fnmadd_ps(half, chord2, omc),
+                                             max16(_mm512_mul_ps(cos_o, cos_e), tiny)),
+                               zero),
+                         two);
+  const __m512 hk = _mm512_mul_ps(half, k);
+  const __m512 psi =
+      _mm512_mul_ps(two, fast_atan_ratio16(sqrt16(hk), sqrt16(_mm512_sub_ps(one, hk))));
+  const __m512 spsi = sqrt16(_mm512_mul_ps(k, _mm512_sub_ps(two, k)));
+  const __m512 ends =
+      _mm512_fnmadd_ps(d_cos, nz, _mm512_fnmadd_ps(d_sin, nw, _mm512_mul_ps(omc, nu)));
+  const __m512 arcs =
+      _mm512_fmadd_ps(_mm512_mul_ps(_mm512_sub_ps(psi, spsi), _mm512_mul_ps(cos_o, cos_o)), nz,
+                      _mm512_mul_ps(_mm512_mul_ps(phi, rho2), nc));
+  return max16(_mm512_fmadd_ps(_mm512_mul_ps(rho, sphi), ends, arcs), zero);
+}
+
+}  // namespace
+
+unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e) {
+  const __m512 dx = _mm512_loadu_ps(in.dx), dy = _mm512_loadu_ps(in.dy),
+               dz = _mm512_loadu_ps(in.dz);
+  const __m512 nx = _mm512_loadu_ps(in.nx), ny = _mm512_loadu_ps(in.ny),
+               nz = _mm512_loadu_ps(in.nz);
+  const __m512 r = _mm512_set1_ps(radius), one = _mm512_set1_ps(1.0f);
+  const __m512 zero = _mm512_setzero_ps();
+  // make_light_cap in lanes.
+  const __m512 plane2 = _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx));
+  const __m512 dist = sqrt16(_mm512_fmadd_ps(dz, dz, plane2));
+  const __mmask16 outside = _mm512_cmp_ps_mask(dist, r, _CMP_GT_OQ);
+  const __m512 inv = _mm512_div_ps(one, dist);
+  const __m512 nd = _mm512_fmadd_ps(nz, dz, _mm512_fmadd_ps(ny, dy, _mm512_mul_ps(nx, dx)));
+  const __mmask16 front = _mm512_cmp_ps_mask(nd, _mm512_sub_ps(zero, r), _CMP_GT_OQ);
+  const __m512 rho = _mm512_mul_ps(r, inv), nc = _mm512_mul_ps(nd, inv);
+  const __m512 plane = sqrt16(plane2);
+  const __m512 cos_e = _mm512_mul_ps(plane, inv), sin_e = _mm512_mul_ps(dz, inv);
+  const __m512 cos_half =
+      _mm512_mul_ps(sqrt16(_mm512_mul_ps(_mm512_sub_ps(dist, r), _mm512_add_ps(dist, r))), inv);
+  // The horizon's sine; the cap's lowest and highest elevation (sines).
+  const __m512 half_pi = _mm512_set1_ps(kHalfPi);
+  const __m512 omega =
+      min16(max16(_mm512_loadu_ps(in.horizon), _mm512_sub_ps(zero, half_pi)), half_pi);
+  const __m512 sin_o = fast_sin16(omega);
+  const __mmask16 pole = _mm512_cmp_ps_mask(rho, cos_e, _CMP_GT_OQ);
+  const __m512 bottom = _mm512_mask_blend_ps(
+      pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_LT_OQ),
+      _mm512_fmsub_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), _mm512_set1_ps(-1.0f));
+  const __m512 top =
+      _mm512_mask_blend_ps(pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_GT_OQ),
+                           _mm512_fmadd_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), one);
+  const __mmask16 lit =
+      outside & front & _mm512_cmp_ps_mask(nc, _mm512_sub_ps(zero, rho), _CMP_GT_OQ);
+  const __mmask16 visible = lit & _mm512_cmp_ps_mask(sin_o, top, _CMP_LT_OQ);
+  const __mmask16 open = _mm512_cmp_ps_mask(sin_o, bottom, _CMP_LE_OQ);
+  const __mmask16 in_front = _mm512_cmp_ps_mask(nc, rho, _CMP_GE_OQ);
+  const __mmask16 is_wide =
+      outside & front & _mm512_cmp_ps_mask(rho, _mm512_set1_ps(wide), _CMP_GE_OQ);
+  // Handed back: wide caps and caps the tangent plane cuts. The others in front of the plane
+  // that the horizon cuts take the lens.
+  const __mmask16 cut = ~is_wide & ~in_front & visible;
+  const __mmask16 lens = ~(is_wide | cut) & ~(open & in_front) & visible;
+  const __mmask16 other = is_wide | cut;
+  __m512 value = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(kPi), _mm512_mul_ps(rho, rho)), nc);
+  if (lens) {
+    // The cap's frame (cap_transfer): side = (-pd.y, pd.x, 0), up = (-sin_e pd, cos_e).
+    const __mmask16 has_plane = _mm512_cmp_ps_mask(plane, zero, _CMP_GT_OQ);
+    const __m512 inv_plane = _mm512_div_ps(one, max16(plane, _mm512_set1_ps(1e-30f)));
+    const __m512 pdx = _mm512_mask_blend_ps(has_plane, one, _mm512_mul_ps(dx, inv_plane));
+    const __m512 pdy = _mm512_maskz_mov_ps(has_plane, _mm512_mul_ps(dy, inv_plane));
+    const __m512 nw = _mm512_fmadd_ps(ny, pdy, _mm512_mul_ps(nx, pdx));
+    const __m512 nu = _mm512_fmsub_ps(nz, cos_e, _mm512_mul_ps(sin_e, nw));
+    value = _mm512_mask_blend_ps(
+        lens, value, front_lens16(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega, sin_o));
+  }
+  _mm512_storeu_ps(e, _mm512_maskz_mov_ps(~other & visible, value));
+  return other;
+}
+
+}  // namespace penumbra::terrain_shadow::detail::avx512
+
+#include "avx512_target_end.h"
+#endif
