@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <stdexcept>
@@ -18,6 +20,7 @@
 #include "penumbra/sh/zh.h"
 
 #include "common/stability.h"
+#include "sweep_lanes.h"
 #include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
@@ -261,6 +264,42 @@ TEST(WedgeTable, MatchesBruteForceOfAPiecewiseLinearHorizon) {
                        brute_quadrature());
     EXPECT_LT(max_abs_diff<4>(t->visibility(a.data()), brute), 1.5e-3f);
   }
+}
+
+// The AVX-512 loop (wedge_sum_avx512.cpp: two blocks a vector, an odd last block on 8 lanes)
+// gives the 8-lane loop's floats, bit for bit, at every node size (N = 2..7: 1 to 7 blocks),
+// with 70 azimuths (a second chunk of 6) and NaN, clamped and in-range angles.
+template <int N>
+void expect_avx512_bits(std::mt19937& rng, int& compared) {
+  const WedgeTable<N> t(70, N % 2 ? WedgeDomain::kSphere : WedgeDomain::kHemisphere, 16);
+  for (int trial = 0; trial < 20; ++trial) {
+    auto a = random_horizon(rng, 70, -2.0f, 2.0f);
+    if (trial % 4 == 0) a[trial % 70] = std::numeric_limits<float>::quiet_NaN();
+    detail::force_sweep_isa(detail::SweepIsa::kAvx2);
+    const sh::Coeffs<N> avx2 = t.visibility(a.data());
+    detail::force_sweep_isa(detail::SweepIsa::kAvx512);
+    const sh::Coeffs<N> avx512 = t.visibility(a.data());
+    detail::force_sweep_isa(std::nullopt);
+    for (int i = 0; i < N * N; ++i)
+      ASSERT_EQ(std::memcmp(&avx2[i], &avx512[i], sizeof(float)), 0)
+          << "N " << N << " trial " << trial << " coefficient " << i << ": " << avx2[i] << " vs "
+          << avx512[i];
+    compared += N * N;
+  }
+}
+
+TEST(WedgeTable, TheAvx512LoopGivesTheEightLaneLoopsBits) {
+  if (detail::sweep_isa() != detail::SweepIsa::kAvx512)
+    GTEST_SKIP() << "this CPU has no AVX-512: only the 8-lane loop can run";
+  std::mt19937 rng(19);
+  int compared = 0;
+  expect_avx512_bits<2>(rng, compared);
+  expect_avx512_bits<3>(rng, compared);
+  expect_avx512_bits<4>(rng, compared);
+  expect_avx512_bits<5>(rng, compared);
+  expect_avx512_bits<6>(rng, compared);
+  expect_avx512_bits<7>(rng, compared);
+  EXPECT_EQ(compared, 20 * (4 + 9 + 16 + 25 + 36 + 49));
 }
 
 }  // namespace

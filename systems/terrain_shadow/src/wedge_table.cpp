@@ -21,6 +21,8 @@
 
 #include "lanes.h"
 #include "sh_any.h"
+#include "sweep_lanes.h"
+#include "wedge_sum.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -260,7 +262,14 @@ template <int N>
 sh::Coeffs<N> WedgeTable<N>::visibility(const float* angles) const {
   constexpr int kB = blocks<N>();
   static constexpr auto kPartner = partner<N>();
+  static_assert(kB <= detail::kMaxWedgeBlocks);
   Lanes u[kB] = {}, t[kB] = {};
+  float uf[kB * kLanes] = {}, tf[kB * kLanes] = {};  // the AVX-512 kernel's sums
+#ifdef __AVX2__
+  const bool avx512 = detail::sweep_isa() == detail::SweepIsa::kAvx512;
+#else
+  constexpr bool avx512 = false;
+#endif
   const std::size_t row = row_;
   const Block* table = table_.data();
   const Block* rot = rotation_.data();
@@ -289,6 +298,13 @@ sh::Coeffs<N> WedgeTable<N>::visibility(const float* angles) const {
       g00[j] = (1 - fl) * (1 - fr), g01[j] = (1 - fl) * fr;
       g10[j] = fl * (1 - fr), g11[j] = fl * fr;
     }
+    if (avx512) {
+      const detail::WedgeSumInput in{table[0].f, row, kB,  rot[0].f, index,
+                                     g00,        g01, g10, g11,      count};
+      detail::avx512::wedge_sum(in, uf, tf);
+      rot += static_cast<std::size_t>(count) * 2 * kB;
+      continue;
+    }
     for (j = 0; j < count; ++j, rot += 2 * kB) {
       const Block* c00 = table + static_cast<std::size_t>(index[j]) * row +
                          static_cast<std::size_t>(index[j + 1]) * kB;
@@ -304,9 +320,10 @@ sh::Coeffs<N> WedgeTable<N>::visibility(const float* angles) const {
       }
     }
   }
-  float uf[kB * kLanes], tf[kB * kLanes];
-  std::memcpy(uf, u, sizeof uf);
-  std::memcpy(tf, t, sizeof tf);
+  if (!avx512) {
+    std::memcpy(uf, u, sizeof uf);
+    std::memcpy(tf, t, sizeof tf);
+  }
   sh::Coeffs<N> out;
   for (int i = 0; i < N * N; ++i) out[i] = uf[i] + tf[kPartner[i]];
   return out;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "penumbra/sh/basis.h"
+#include "penumbra/systems/terrain_shadow/horizon.h"  // CacheLineAllocator
 
 namespace penumbra::terrain_shadow {
 
@@ -56,8 +57,11 @@ class WedgeTable {
   };
   // Node (a, b) is B = ceil(N*N / 8) blocks from block a * row_ + b * B, zero-padded.
   std::size_t row_ = 0;
-  std::vector<Block> table_;
-  std::vector<Block> rotation_;  // per azimuth: B blocks cos(m phi_k), B blocks signed sin
+  // On cache-line boundaries (with rows of whole lines): the AVX-512 loop loads two blocks at
+  // once, and an even node's pair then never splits a line.
+  std::vector<Block, CacheLineAllocator<Block>> table_;
+  std::vector<Block, CacheLineAllocator<Block>> rotation_;  // per azimuth: B blocks cos(m phi_k),
+                                                            // B blocks signed sin
 };
 
 // The same wedge integrated directly by quadrature (no table): for tests and table building.
