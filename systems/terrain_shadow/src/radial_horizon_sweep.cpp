@@ -80,13 +80,13 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
   foot_ = foot / f.cell_size;
   foot_inside_ = foot_.x >= 0 && foot_.y >= 0 && foot_.x <= static_cast<float>(f.width - 1) &&
                  foot_.y <= static_cast<float>(f.height - 1);
-  // Each side's groups of lines, then one parallel loop over all four sides' groups (a loop per
-  // side waited for its slowest group four times).
+  // Each side's groups of lines, then one parallel loop over all four sides' pairs of groups (a
+  // loop per side waited for its slowest group four times).
   std::array<detail::RadialGroup, 4> bases;
-  std::array<int, 5> group_start{};
+  std::array<int, 5> pair_start{};
   for (int index = 0; index < 4; ++index) {
     Side& side = sides_[index];
-    group_start[index + 1] = group_start[index];
+    pair_start[index + 1] = pair_start[index];
     side.x_major = index < 2;
     side.sign = index % 2 == 0 ? 1 : -1;
     const int size_u = side.x_major ? f.width : f.height;
@@ -125,7 +125,7 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
     side.j_lo = static_cast<int>(j_lo);
     side.lines = static_cast<int>(j_hi - j_lo) + 1;
     const int groups = (side.lines + detail::kRadialLanes - 1) / detail::kRadialLanes;
-    group_start[index + 1] += groups;
+    pair_start[index + 1] += (groups + 1) / 2;
     side.angle.resize(static_cast<std::size_t>(groups) * detail::kRadialLanes * side.columns);
     side.line_end.clear();
     if (!regions.empty()) limit_lines(side, regions);
@@ -140,8 +140,8 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
     base.r_near = r_near;
     base.height_scale = height_scale;
   }
-  // One group of side `index`: its lines' slopes and columns, the walk, slopes to angles.
-  auto sweep_group = [&](int index, int group, detail::RadialScratch& scratch) {
+  // Group `group` of side `index`: its lines' slopes and columns (width 0: it serves no region).
+  auto group_of = [&](int index, int group) {
     const Side& side = sides_[index];
     const detail::RadialGroup& base = bases[index];
     const double v_max = base.size_v - 1, v0 = base.v0, r_near = base.r_near;
@@ -168,20 +168,48 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
       g.end[l] = std::max(g.first[l], static_cast<int>(k_max) + 1);
       g.width = std::max(g.width, columns);
     }
-    if (g.width == 0) return;  // no line of the group serves a region
-    float* block = sides_[index].angle.data() +
-                   static_cast<std::size_t>(group) * detail::kRadialLanes * side.columns;
-    detail::sweep_radial_group_lanes(g, scratch, block);
-    // Slopes to angles; -inf (nothing in between) gives -pi/2, NaN stays NaN.
+    return g;
+  };
+  auto block_of = [&](int index, int group) {
+    return sides_[index].angle.data() +
+           static_cast<std::size_t>(group) * detail::kRadialLanes * sides_[index].columns;
+  };
+  // Slopes to angles; -inf (nothing in between) gives -pi/2, NaN stays NaN.
+  auto to_angles = [](float* block, const detail::RadialGroup& g) {
     detail::fast_atan_array(block, static_cast<std::size_t>(g.width) * detail::kRadialLanes);
   };
-  tbb::parallel_for(tbb::blocked_range<int>(0, group_start[4]),
+  // Groups 2 u and 2 u + 1 of side `index` (the second may not exist): one walk of sixteen
+  // lanes where the AVX-512 copy runs (sweep_radial_pair_lanes).
+  auto sweep_pair = [&](int index, int u, detail::RadialScratch& scratch) {
+    const int groups = (sides_[index].lines + detail::kRadialLanes - 1) / detail::kRadialLanes;
+    const detail::RadialGroup a = group_of(index, 2 * u);
+    float* block_a = block_of(index, 2 * u);
+    if (2 * u + 1 < groups) {
+      const detail::RadialGroup b = group_of(index, 2 * u + 1);
+      float* block_b = block_of(index, 2 * u + 1);
+      if (a.width > 0 && b.width > 0) {
+        detail::sweep_radial_pair_lanes(a, b, scratch, block_a, block_b);
+        to_angles(block_a, a);
+        to_angles(block_b, b);
+        return;
+      }
+      if (b.width > 0) {
+        detail::sweep_radial_group_lanes(b, scratch, block_b);
+        to_angles(block_b, b);
+      }
+    }
+    if (a.width > 0) {
+      detail::sweep_radial_group_lanes(a, scratch, block_a);
+      to_angles(block_a, a);
+    }
+  };
+  tbb::parallel_for(tbb::blocked_range<int>(0, pair_start[4]),
                     [&](const tbb::blocked_range<int>& range) {
                       thread_local detail::RadialScratch scratch;
                       int index = 0;
                       for (int at = range.begin(); at < range.end(); ++at) {
-                        while (at >= group_start[index + 1]) ++index;
-                        sweep_group(index, at - group_start[index], scratch);
+                        while (at >= pair_start[index + 1]) ++index;
+                        sweep_pair(index, at - pair_start[index], scratch);
                       }
                     });
 }

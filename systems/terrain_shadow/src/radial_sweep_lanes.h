@@ -42,5 +42,10 @@ struct RadialScratch {
 // NaN outside [first[l], end[l]).
 void sweep_radial_group_scalar(const RadialGroup& g, RadialScratch& sc, float* block);
 void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* block);
+// Two groups of one side, each into its block, with the same floats as two
+// sweep_radial_group_lanes calls: where the AVX-512 copy runs, as one walk of sixteen lanes
+// (lanes 0-7 group a, 8-15 group b: one chain of pop rounds for both).
+void sweep_radial_pair_lanes(const RadialGroup& a, const RadialGroup& b, RadialScratch& sc,
+                             float* block_a, float* block_b);
 
 }  // namespace penumbra::terrain_shadow::detail
