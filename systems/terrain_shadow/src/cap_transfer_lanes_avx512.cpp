@@ -12,63 +12,20 @@
 
 #include <immintrin.h>
 
+#include "fast_math16.h"
+
 namespace penumbra::terrain_shadow::detail::avx512 {
 namespace {
 
-// sqrt, max and min through their zero-masking forms with every lane set (the same
-// instructions): GCC 12 warns that the plain forms' undefined pass-through is uninitialized.
+// sqrt, max and min through their zero-masking forms with every lane (fast_math16.h's kAll).
 [[gnu::always_inline]] inline __m512 sqrt16(__m512 x) {
-  return _mm512_maskz_sqrt_ps(0xffff, x);
+  return _mm512_maskz_sqrt_ps(kAll, x);
 }
 [[gnu::always_inline]] inline __m512 max16(__m512 a, __m512 b) {
-  return _mm512_maskz_max_ps(0xffff, a, b);
+  return _mm512_maskz_max_ps(kAll, a, b);
 }
 [[gnu::always_inline]] inline __m512 min16(__m512 a, __m512 b) {
-  return _mm512_maskz_min_ps(0xffff, a, b);
-}
-
-// fast_math.h's 8-lane polynomials on 16 lanes, the same coefficients in the same order.
-template <std::size_t K>
-[[gnu::always_inline]] inline __m512 horner16(__m512 x, const float (&c)[K]) {
-  __m512 p = _mm512_set1_ps(c[0]);
-  for (std::size_t i = 1; i < K; ++i) p = _mm512_fmadd_ps(p, x, _mm512_set1_ps(c[i]));
-  return p;
-}
-
-[[gnu::always_inline]] inline __m512 fast_atan_unit16(__m512 z) {
-  return _mm512_mul_ps(z, horner16(_mm512_mul_ps(z, z), kAtanPoly));
-}
-
-[[gnu::always_inline]] inline __m512 fast_sin16(__m512 x) {
-  static constexpr float c[] = {-2.50521084e-8f, 2.75573192e-6f, -1.98412698e-4f, 8.33333333e-3f,
-                                -1.66666667e-1f};
-  const __m512 x2 = _mm512_mul_ps(x, x);
-  return _mm512_fmadd_ps(_mm512_mul_ps(x, x2), horner16(x2, c), x);
-}
-
-[[gnu::always_inline]] inline __m512 fast_cos16(__m512 x) {
-  static constexpr float c[] = {2.08767570e-9f,
-                                -2.75573192e-7f,
-                                2.48015873e-5f,
-                                -1.38888889e-3f,
-                                4.16666667e-2f,
-                                -0.5f,
-                                1.0f};
-  return horner16(_mm512_mul_ps(x, x), c);
-}
-
-[[gnu::always_inline]] inline __m512 sign_bits(__m512 x) {
-  return _mm512_castsi512_ps(
-      _mm512_and_si512(_mm512_castps_si512(x), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
-}
-
-// fast_atan_ratio8: atan(num / den) for den > 0 with one division.
-[[gnu::always_inline]] inline __m512 fast_atan_ratio16(__m512 num, __m512 den) {
-  const __m512 a = _mm512_abs_ps(num);
-  const __mmask16 inv = _mm512_cmp_ps_mask(a, den, _CMP_GT_OQ);
-  const __m512 r = fast_atan_unit16(_mm512_div_ps(min16(a, den), max16(a, den)));
-  const __m512 t = _mm512_mask_blend_ps(inv, r, _mm512_sub_ps(_mm512_set1_ps(1.57079632679f), r));
-  return _mm512_or_ps(t, sign_bits(num));
+  return _mm512_maskz_min_ps(kAll, a, b);
 }
 
 // front_lens8 (cap_chords.h's lens) on 16 lanes.

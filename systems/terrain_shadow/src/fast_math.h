@@ -44,6 +44,13 @@ inline float fast_atan(float x) {
   return std::copysign(r, x);
 }
 
+// The lanes' sine and cosine polynomials in x^2 (fast_sin's and fast_cos's coefficients):
+// sin x = x + x^3 P(x^2), cos x = Q(x^2).
+inline constexpr float kSinPoly[] = {-2.50521084e-8f, 2.75573192e-6f, -1.98412698e-4f,
+                                     8.33333333e-3f, -1.66666667e-1f};
+inline constexpr float kCosPoly[] = {
+    2.08767570e-9f, -2.75573192e-7f, 2.48015873e-5f, -1.38888889e-3f, 4.16666667e-2f, -0.5f, 1.0f};
+
 #ifdef __AVX2__
 // The 8-lane helpers are always inlined: sweep_lanes_avx512.cpp compiles them for AVX-512 into
 // its kernels, and no out-of-line copy of that may be the one the linker keeps.
@@ -63,20 +70,11 @@ template <std::size_t K>
 // sin and cos on [-pi/2, pi/2] on 8 lanes (fast_sin's polynomial; cos by Taylor to x^12):
 // errors under 6e-8.
 [[gnu::always_inline]] inline __m256 fast_sin8(__m256 x) {
-  static constexpr float c[] = {-2.50521084e-8f, 2.75573192e-6f, -1.98412698e-4f, 8.33333333e-3f,
-                                -1.66666667e-1f};
   const __m256 x2 = _mm256_mul_ps(x, x);
-  return _mm256_fmadd_ps(_mm256_mul_ps(x, x2), horner8(x2, c), x);
+  return _mm256_fmadd_ps(_mm256_mul_ps(x, x2), horner8(x2, kSinPoly), x);
 }
 [[gnu::always_inline]] inline __m256 fast_cos8(__m256 x) {
-  static constexpr float c[] = {2.08767570e-9f,
-                                -2.75573192e-7f,
-                                2.48015873e-5f,
-                                -1.38888889e-3f,
-                                4.16666667e-2f,
-                                -0.5f,
-                                1.0f};
-  return horner8(_mm256_mul_ps(x, x), c);
+  return horner8(_mm256_mul_ps(x, x), kCosPoly);
 }
 
 // atan(num / den) for den > 0 on 8 lanes with one division (min / max of |num| and den).

@@ -23,6 +23,9 @@
 #include "fast_math.h"
 #include "lanes.h"
 #include "sweep_geometry.h"
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+#include "fast_math16.h"  // kAll, fast_atan16
+#endif
 
 namespace penumbra::terrain_shadow::detail {
 namespace {
@@ -559,27 +562,6 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
 }
 
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
-// Every lane, as a mask: GCC 12's unmasked forms of some 512-bit intrinsics pass an undefined
-// vector through and warn (-Wmaybe-uninitialized, fixed in GCC 13); the zero-masked forms with
-// all lanes are the same instructions.
-constexpr __mmask16 kAll = 0xffff;
-
-// fast_atan8 on sixteen lanes, in place: the same operations in the same order, so the same
-// results (by reference: no 512-bit values cross a function boundary).
-[[gnu::always_inline]] inline void fast_atan16(__m512& x) {
-  const __m512 sign = _mm512_set1_ps(-0.0f), one = _mm512_set1_ps(1.0f);
-  const __m512 a = _mm512_andnot_ps(sign, x);
-  const __mmask16 inv = _mm512_cmp_ps_mask(a, one, _CMP_GT_OQ);
-  const __m512 z = _mm512_maskz_min_ps(kAll, a, _mm512_div_ps(one, a));
-  const __m512 z2 = _mm512_mul_ps(z, z);
-  __m512 p = _mm512_set1_ps(kAtanPoly[0]);
-  for (std::size_t i = 1; i < std::size(kAtanPoly); ++i)
-    p = _mm512_fmadd_ps(p, z2, _mm512_set1_ps(kAtanPoly[i]));
-  const __m512 r = _mm512_mul_ps(z, p);
-  x = _mm512_or_ps(_mm512_mask_blend_ps(inv, r, _mm512_sub_ps(_mm512_set1_ps(1.57079632679f), r)),
-                   _mm512_and_ps(sign, x));
-}
-
 // Accumulator::add with the sixteen angles in one vector: texels b0 .. b0 + 15 in one step
 // (lane m takes t times lane m - 1's angle, then 1 - t times its own), then b0 + 16 .. b0 + 23
 // as add()'s last vector (lane 15's angle below texel b0 + 16): the same floats into the same
