@@ -2,7 +2,8 @@
 // upper-hull sweep of [Timonen10] along lines radiating from the light's foot ([Meier13] eq. 4.22).
 // Compiled twice, as sweep_lanes.cpp: here for the x86-64-v3 baseline (the scalar kernel, the
 // AVX2 lanes, the run-time choice), and by radial_sweep_lanes_avx512.cpp for AVX-512
-// (PENUMBRA_RADIAL_LANES_AVX512: the lanes' kernel only, in namespace avx512).
+// (PENUMBRA_RADIAL_LANES_AVX512: the walk of two groups on sixteen lanes only, in namespace
+// avx512; one group walks as a pair with an empty second).
 #include "radial_sweep_lanes.h"
 
 #include <algorithm>
@@ -86,11 +87,8 @@ void sweep_radial_group_scalar(const RadialGroup& g, RadialScratch& sc, float* b
 #endif
 
 #ifdef __AVX2__
-#ifdef PENUMBRA_RADIAL_LANES_AVX512
-namespace avx512 {
-#else
+#ifndef PENUMBRA_RADIAL_LANES_AVX512
 namespace avx2 {
-#endif
 
 void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
   int lo, hi;
@@ -103,10 +101,9 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
   // is one vector store and a pop reads the new third point from the old one's slot (found
   // from its r: r = r_near + k, to a float's precision, far less than a step).
   const std::size_t slots = static_cast<std::size_t>(hi - lo + 1) * L;
-  // (The AVX-512 copy keeps (h, r) pairs in hull_h: twice the floats. Each size on its own: the
-  // scalar kernel may have sized both alike.)
+  // (Each size on its own: the scalar kernel and the AVX-512 pair walk size them otherwise.)
   if (sc.hull_r.size() < slots) sc.hull_r.resize(slots);
-  if (sc.hull_h.size() < 2 * slots) sc.hull_h.resize(2 * slots);
+  if (sc.hull_h.size() < slots) sc.hull_h.resize(slots);
   float* link_h = sc.hull_h.data();
 
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -157,20 +154,6 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
     const __m256i i1 = _mm256_add_epi32(
         i0, _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(fv, zero, _CMP_GT_OQ)), stride_v));
     __m256 s0, s1;
-#ifdef PENUMBRA_RADIAL_LANES_AVX512
-    if (g.stride_v == 1 && g.size_v >= 2) {
-      // A lane's two samples side by side: one 64-bit gather element, taken one sample earlier
-      // on the minor axis's last sample (its right neighbour lies past the row; fv = 0 there).
-      const __mmask8 last = _mm256_cmpeq_epi32_mask(vi, v_last);
-      const __m512i pair = _mm512_mask_i32gather_epi64(
-          _mm512_setzero_si512(), 0xff, _mm256_mask_sub_epi32(i0, last, i0, one), g.heights, 4);
-      const __m256 left = _mm256_castsi256_ps(_mm512_maskz_cvtepi64_epi32(0xff, pair));
-      const __m256 right = _mm256_castsi256_ps(
-          _mm512_maskz_cvtepi64_epi32(0xff, _mm512_maskz_srli_epi64(0xff, pair, 32)));
-      s0 = _mm256_mask_blend_ps(last, left, right);
-      s1 = _mm256_mask_blend_ps(_mm256_cmp_ps_mask(fv, zero, _CMP_GT_OQ), s0, right);
-    } else
-#endif
     {
       s0 = _mm256_i32gather_ps(g.heights, i0, 4);
       s1 = _mm256_i32gather_ps(g.heights, i1, 4);
@@ -182,75 +165,6 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
     _mm256_storeu_ps(sc.active.data() + at, active);
   }
 
-#ifdef PENUMBRA_RADIAL_LANES_AVX512
-  // The same walk with mask registers, a fourth hull point (d) in registers and per lane how
-  // many of a, b, c, d are current (c is refilled from the links only when a pop leaves it
-  // stale), and each link's (h, r) side by side, one 64-bit gather element: sweep_lanes.cpp's
-  // walk16 on eight lanes. The same floats.
-  float* links = link_h;  // (h, r) pairs: slot * L + l at links + 2 (slot * L + l)
-  const __m256i two = _mm256_set1_epi32(2), three = _mm256_set1_epi32(3),
-                four = _mm256_set1_epi32(4);
-  const __m512i pairs = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
-  __m256i top = izero, depth = izero;
-  __m256 ah = zero, ar = zero, bh = zero, br = zero, ch = zero, cr = zero, dh = zero, dr = zero;
-  for (int k = lo; k < hi; ++k) {
-    const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k - lo) * L;
-    const __m256 rf = _mm256_set1_ps(static_cast<float>(g.r_near + k));
-    const __m256 h = _mm256_loadu_ps(sc.h.data() + at);
-    const __mmask8 active =
-        _mm256_movepi32_mask(_mm256_castps_si256(_mm256_loadu_ps(sc.active.data() + at)));
-    for (;;) {
-      const __mmask8 can = _mm256_mask_cmpgt_epi32_mask(active, top, one);
-      const __m256 lhs = _mm256_mul_ps(_mm256_sub_ps(ah, h), _mm256_sub_ps(rf, br));
-      const __m256 rhs = _mm256_mul_ps(_mm256_sub_ps(bh, h), _mm256_sub_ps(rf, ar));
-      const __mmask8 pop = _mm256_mask_cmp_ps_mask(can, lhs, rhs, _CMP_LE_OQ);
-      if (pop == 0) break;
-      top = _mm256_mask_sub_epi32(top, pop, top, one);
-      depth = _mm256_mask_sub_epi32(depth, pop, depth, one);
-      ah = _mm256_mask_mov_ps(ah, pop, bh), ar = _mm256_mask_mov_ps(ar, pop, br);
-      bh = _mm256_mask_mov_ps(bh, pop, ch), br = _mm256_mask_mov_ps(br, pop, cr);
-      ch = _mm256_mask_mov_ps(ch, pop, dh), cr = _mm256_mask_mov_ps(cr, pop, dr);
-      // Lanes whose c is now stale with a point below b: c from b's link.
-      const __mmask8 refill =
-          _mm256_mask_cmpgt_epi32_mask(_mm256_mask_cmpgt_epi32_mask(pop, three, depth), top, two);
-      if (refill == 0) continue;
-      const __m256i b_slot = _mm256_min_epi32(
-          _mm256_max_epi32(_mm256_cvtps_epi32(_mm256_sub_ps(br, r_first)), izero), last_slot);
-      const __m256i i3 = _mm256_add_epi32(_mm256_slli_epi32(b_slot, 3), lane);
-      const __m512i pair =
-          _mm512_mask_i32gather_epi64(_mm512_setzero_si512(), refill, i3, links, 8);
-      // (GCC 12 warns on the unmasked forms of these two: the zero-masked ones with every lane
-      // are the same instructions, as in sweep_lanes.cpp.)
-      const __m512i r_bits = _mm512_maskz_srli_epi64(0xff, pair, 32);
-      ch = _mm256_mask_mov_ps(ch, refill,
-                              _mm256_castsi256_ps(_mm512_maskz_cvtepi64_epi32(0xff, pair)));
-      cr = _mm256_mask_mov_ps(cr, refill,
-                              _mm256_castsi256_ps(_mm512_maskz_cvtepi64_epi32(0xff, r_bits)));
-      depth = _mm256_mask_mov_epi32(depth, refill, three);
-    }
-    const __mmask8 has = _mm256_cmpgt_epi32_mask(top, izero);
-    const __m256 slope =
-        _mm256_mul_ps(_mm256_div_ps(_mm256_sub_ps(ah, h), _mm256_sub_ps(rf, ar)), inv_metres);
-    _mm256_storeu_ps(
-        block + static_cast<std::ptrdiff_t>(k) * L,
-        _mm256_mask_blend_ps(active, nan, _mm256_mask_blend_ps(has, minus_inf, slope)));
-    // Push on the active lanes: slot k - lo keeps the old top (every lane stores).
-    _mm512_storeu_ps(links + 2 * at, _mm512_permutex2var_ps(_mm512_castps256_ps512(ah), pairs,
-                                                            _mm512_castps256_ps512(ar)));
-    if (active == 0xff) {  // every lane (most columns): register moves, no blends
-      top = _mm256_add_epi32(top, one);
-      depth = _mm256_min_epi32(_mm256_add_epi32(depth, one), four);
-      dh = ch, dr = cr, ch = bh, cr = br, bh = ah, br = ar, ah = h, ar = rf;
-      continue;
-    }
-    top = _mm256_mask_add_epi32(top, active, top, one);
-    depth = _mm256_mask_min_epi32(depth, active, _mm256_add_epi32(depth, one), four);
-    dh = _mm256_mask_mov_ps(dh, active, ch), dr = _mm256_mask_mov_ps(dr, active, cr);
-    ch = _mm256_mask_mov_ps(ch, active, bh), cr = _mm256_mask_mov_ps(cr, active, br);
-    bh = _mm256_mask_mov_ps(bh, active, ah), br = _mm256_mask_mov_ps(br, active, ar);
-    ah = _mm256_mask_mov_ps(ah, active, h), ar = _mm256_mask_mov_ps(ar, active, rf);
-  }
-#else
   float* link_r = sc.hull_r.data();
   __m256i top = izero;
   __m256 ah = zero, ar = zero, bh = zero, br = zero, ch = zero, cr = zero;
@@ -296,10 +210,11 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
     ah = _mm256_blendv_ps(ah, h, active);
     ar = _mm256_blendv_ps(ar, rf, active);
   }
-#endif
 }
 
-#ifdef PENUMBRA_RADIAL_LANES_AVX512
+}  // namespace avx2
+#else
+namespace avx512 {
 namespace {
 
 // Lanes 0-7 and 8-15 of a 512-bit vector from two 256-bit halves, and back. Here and below the
@@ -327,8 +242,11 @@ namespace {
 
 }  // namespace
 
-// sweep_radial_group's AVX-512 walk above on sixteen lanes: lanes 0-7 are group a's, 8-15 group
-// b's, per lane the same operations (so the same floats). Links: (h, r) pairs at slot * 16 + l.
+// sweep_radial_group's walk on sixteen AVX-512 lanes: lanes 0-7 are group a's, 8-15 group b's,
+// per lane the same operations (so the same floats). As the line sweep's walk16: the lanes'
+// masks in mask registers, a fourth hull point (d) in registers with per lane how many of a,
+// b, c, d are current (c is refilled from the links only when a pop leaves it stale), and
+// each link's (h, r) side by side, one 64-bit gather element: (h, r) at slot * 16 + l.
 void sweep_radial_pair(const RadialGroup& a, const RadialGroup& b, RadialScratch& sc,
                        float* block_a, float* block_b) {
   int lo_a, hi_a, lo_b, hi_b;
@@ -489,9 +407,19 @@ void sweep_radial_pair(const RadialGroup& a, const RadialGroup& b, RadialScratch
     ah = _mm512_mask_mov_ps(ah, active, h), ar = _mm512_mask_mov_ps(ar, active, rf);
   }
 }
-#endif
 
-}  // namespace avx512 / avx2
+// One group: the pair walk with a second group of empty lanes (the same floats for the first;
+// the walk of sixteen lanes costs about what one of eight did).
+void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
+  RadialGroup none = g;
+  none.width = 0;
+  none.first.fill(0);
+  none.end.fill(0);
+  sweep_radial_pair(g, none, sc, block, nullptr);
+}
+
+}  // namespace avx512
+#endif
 
 #ifndef PENUMBRA_RADIAL_LANES_AVX512
 namespace avx512 {  // radial_sweep_lanes_avx512.cpp
