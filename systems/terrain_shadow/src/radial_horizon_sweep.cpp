@@ -140,7 +140,8 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
     base.r_near = r_near;
     base.height_scale = height_scale;
   }
-  // Group `group` of side `index`: its lines' slopes and columns (width 0: it serves no region).
+  // Group `group` of side `index`: its lines' slopes and columns (width 0: it serves no region,
+  // or lies past the side's last line).
   auto group_of = [&](int index, int group) {
     const Side& side = sides_[index];
     const detail::RadialGroup& base = bases[index];
@@ -178,30 +179,18 @@ void RadialHorizonSweep::run(const data::HeightField& f, float height_scale, glm
   auto to_angles = [](float* block, const detail::RadialGroup& g) {
     detail::fast_atan_array(block, static_cast<std::size_t>(g.width) * detail::kRadialLanes);
   };
-  // Groups 2 u and 2 u + 1 of side `index` (the second may not exist): one walk of sixteen
-  // lanes where the AVX-512 copy runs (sweep_radial_pair_lanes).
+  // Groups 2 u and 2 u + 1 of side `index`: one walk of sixteen lanes where the AVX-512 copy
+  // runs (sweep_radial_pair_lanes). A group past the side's last line, or serving no region,
+  // has width 0 and is not written.
   auto sweep_pair = [&](int index, int u, detail::RadialScratch& scratch) {
     const int groups = (sides_[index].lines + detail::kRadialLanes - 1) / detail::kRadialLanes;
-    const detail::RadialGroup a = group_of(index, 2 * u);
+    const detail::RadialGroup a = group_of(index, 2 * u), b = group_of(index, 2 * u + 1);
+    if (a.width == 0 && b.width == 0) return;
     float* block_a = block_of(index, 2 * u);
-    if (2 * u + 1 < groups) {
-      const detail::RadialGroup b = group_of(index, 2 * u + 1);
-      float* block_b = block_of(index, 2 * u + 1);
-      if (a.width > 0 && b.width > 0) {
-        detail::sweep_radial_pair_lanes(a, b, scratch, block_a, block_b);
-        to_angles(block_a, a);
-        to_angles(block_b, b);
-        return;
-      }
-      if (b.width > 0) {
-        detail::sweep_radial_group_lanes(b, scratch, block_b);
-        to_angles(block_b, b);
-      }
-    }
-    if (a.width > 0) {
-      detail::sweep_radial_group_lanes(a, scratch, block_a);
-      to_angles(block_a, a);
-    }
+    float* block_b = 2 * u + 1 < groups ? block_of(index, 2 * u + 1) : nullptr;
+    detail::sweep_radial_pair_lanes(a, b, scratch, block_a, block_b);
+    to_angles(block_a, a);
+    if (block_b) to_angles(block_b, b);
   };
   tbb::parallel_for(tbb::blocked_range<int>(0, pair_start[4]),
                     [&](const tbb::blocked_range<int>& range) {

@@ -153,11 +153,8 @@ void sweep_radial_group(const RadialGroup& g, RadialScratch& sc, float* block) {
                                         _mm256_mullo_epi32(vi, stride_v));
     const __m256i i1 = _mm256_add_epi32(
         i0, _mm256_and_si256(_mm256_castps_si256(_mm256_cmp_ps(fv, zero, _CMP_GT_OQ)), stride_v));
-    __m256 s0, s1;
-    {
-      s0 = _mm256_i32gather_ps(g.heights, i0, 4);
-      s1 = _mm256_i32gather_ps(g.heights, i1, 4);
-    }
+    const __m256 s0 = _mm256_i32gather_ps(g.heights, i0, 4);
+    const __m256 s1 = _mm256_i32gather_ps(g.heights, i1, 4);
     const std::ptrdiff_t at = static_cast<std::ptrdiff_t>(k - lo) * L;
     _mm256_storeu_ps(
         sc.h.data() + at,
@@ -252,9 +249,10 @@ void sweep_radial_pair(const RadialGroup& a, const RadialGroup& b, RadialScratch
   int lo_a, hi_a, lo_b, hi_b;
   swept_columns(a, lo_a, hi_a);
   swept_columns(b, lo_b, hi_b);
-  int lo = std::min(lo_a < hi_a ? lo_a : hi_b, lo_b < hi_b ? lo_b : hi_a);
-  int hi = std::max(hi_a, hi_b);
-  if (lo >= hi) lo = hi = 0;
+  // The union of both groups' swept columns (a group sweeping none has lo = hi = 0).
+  const bool has_a = lo_a < hi_a, has_b = lo_b < hi_b;
+  const int lo = has_a && has_b ? std::min(lo_a, lo_b) : (has_a ? lo_a : lo_b);
+  const int hi = std::max(hi_a, hi_b);
   const RadialGroup* groups[2] = {&a, &b};
   float* blocks[2] = {block_a, block_b};
   for (int g = 0; g < 2; ++g) {  // columns of each block the walk below does not write

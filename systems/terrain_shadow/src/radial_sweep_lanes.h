@@ -30,8 +30,8 @@ struct RadialGroup {
   std::array<int, kRadialLanes> first{}, end{};  // columns swept: [first, end)
 };
 
-// Per-thread scratch: the hulls, kRadialLanes floats per depth (the AVX-512 copy: (h, r) pairs
-// in hull_h); the lanes' samples (heights and active masks) per column.
+// Per-thread scratch: the hulls, kRadialLanes floats per depth (the AVX-512 pair walk: (h, r)
+// pairs of sixteen lanes in hull_h); the lanes' samples (heights and active masks) per column.
 struct RadialScratch {
   std::vector<float> hull_r, hull_h;
   std::vector<float> h, active;
@@ -44,7 +44,8 @@ void sweep_radial_group_scalar(const RadialGroup& g, RadialScratch& sc, float* b
 void sweep_radial_group_lanes(const RadialGroup& g, RadialScratch& sc, float* block);
 // Two groups of one side, each into its block, with the same floats as two
 // sweep_radial_group_lanes calls: where the AVX-512 copy runs, as one walk of sixteen lanes
-// (lanes 0-7 group a, 8-15 group b: one chain of pop rounds for both).
+// (lanes 0-7 group a, 8-15 group b: one chain of pop rounds for both). A group of width 0
+// (lanes first == end == 0) is not written; its block may then be null.
 void sweep_radial_pair_lanes(const RadialGroup& a, const RadialGroup& b, RadialScratch& sc,
                              float* block_a, float* block_b);
 

@@ -1,7 +1,8 @@
 // The radial sweep's lane kernel compiled again for AVX-512 (x86-64-v4 subsets), as
-// sweep_lanes_avx512.cpp does for the line sweep: one source (radial_sweep_lanes.cpp), its walk
-// on mask registers with a fourth hull point and paired links, in namespace detail::avx512;
-// sweep_radial_group_lanes chooses between the copies at run time (sweep_isa()). The headers
+// sweep_lanes_avx512.cpp does for the line sweep: one source (radial_sweep_lanes.cpp), two
+// groups' walk on sixteen lanes with mask registers, a fourth hull point and paired links, in
+// namespace detail::avx512; sweep_radial_group_lanes and sweep_radial_pair_lanes choose between
+// the copies at run time (sweep_isa()). The headers
 // with out-of-line inline functions come first, compiled for the baseline.
 #include <algorithm>
 #include <cmath>
