@@ -12,20 +12,18 @@ namespace penumbra::terrain_shadow::detail::avx512 {
 namespace {
 
 // [Meier13] eq. 4.19: u += A_k w_k, t += B'_k w_k, w_k the bilinear wedge (wedge_table.cpp).
-// Per float: w = g00 c00 + (g01 c00' ... as GCC contracts the 8-lane loop: g01 c00[kB + v]
-// first, then g00 c00[v], g10 c10[v] and g11 c10[kB + v] by multiply-adds.
+// Per float in the 8-lane loop's order (as GCC contracts it): w = g01 c00[kB + v], then
+// multiply-adds of g00 c00[v], g10 c10[v] and g11 c10[kB + v]. Blocks 2 p and 2 p + 1 share a
+// vector; an odd last block takes the lower half (masked loads and stores: the upper lanes
+// read nothing and are not stored).
 template <int kB>
 void sum(const WedgeSumInput& in, float* u, float* t) {
-  constexpr int kPairs = kB / 2;
-  __m512 u16[kPairs > 0 ? kPairs : 1], t16[kPairs > 0 ? kPairs : 1];
-  for (int p = 0; p < kPairs; ++p) {
-    u16[p] = _mm512_loadu_ps(u + 16 * p);
-    t16[p] = _mm512_loadu_ps(t + 16 * p);
-  }
-  __m256 u8 = _mm256_setzero_ps(), t8 = _mm256_setzero_ps();
-  if constexpr (kB % 2 == 1) {
-    u8 = _mm256_loadu_ps(u + 16 * kPairs);
-    t8 = _mm256_loadu_ps(t + 16 * kPairs);
+  constexpr int kVectors = (kB + 1) / 2;
+  auto mask = [](int p) -> __mmask16 { return 2 * p + 1 < kB ? 0xffff : 0x00ff; };
+  __m512 u16[kVectors], t16[kVectors];
+  for (int p = 0; p < kVectors; ++p) {
+    u16[p] = _mm512_maskz_loadu_ps(mask(p), u + 16 * p);
+    t16[p] = _mm512_maskz_loadu_ps(mask(p), t + 16 * p);
   }
   const float* rot = in.rotation;
   for (int j = 0; j < in.count; ++j, rot += 2 * kB * 8) {
@@ -35,32 +33,20 @@ void sum(const WedgeSumInput& in, float* u, float* t) {
     const float* c10 = c00 + in.row * 8;
     const __m512 g00 = _mm512_set1_ps(in.g00[j]), g01 = _mm512_set1_ps(in.g01[j]);
     const __m512 g10 = _mm512_set1_ps(in.g10[j]), g11 = _mm512_set1_ps(in.g11[j]);
-    for (int p = 0; p < kPairs; ++p) {
+    for (int p = 0; p < kVectors; ++p) {
       const int o = 16 * p;
-      __m512 w = _mm512_mul_ps(g01, _mm512_loadu_ps(c00 + kB * 8 + o));
-      w = _mm512_fmadd_ps(g00, _mm512_loadu_ps(c00 + o), w);
-      w = _mm512_fmadd_ps(g10, _mm512_loadu_ps(c10 + o), w);
-      w = _mm512_fmadd_ps(g11, _mm512_loadu_ps(c10 + kB * 8 + o), w);
-      u16[p] = _mm512_fmadd_ps(_mm512_loadu_ps(rot + o), w, u16[p]);
-      t16[p] = _mm512_fmadd_ps(_mm512_loadu_ps(rot + kB * 8 + o), w, t16[p]);
-    }
-    if constexpr (kB % 2 == 1) {
-      const int o = 16 * kPairs;
-      __m256 w = _mm256_mul_ps(_mm256_set1_ps(in.g01[j]), _mm256_loadu_ps(c00 + kB * 8 + o));
-      w = _mm256_fmadd_ps(_mm256_set1_ps(in.g00[j]), _mm256_loadu_ps(c00 + o), w);
-      w = _mm256_fmadd_ps(_mm256_set1_ps(in.g10[j]), _mm256_loadu_ps(c10 + o), w);
-      w = _mm256_fmadd_ps(_mm256_set1_ps(in.g11[j]), _mm256_loadu_ps(c10 + kB * 8 + o), w);
-      u8 = _mm256_fmadd_ps(_mm256_loadu_ps(rot + o), w, u8);
-      t8 = _mm256_fmadd_ps(_mm256_loadu_ps(rot + kB * 8 + o), w, t8);
+      const __mmask16 m = mask(p);
+      __m512 w = _mm512_mul_ps(g01, _mm512_maskz_loadu_ps(m, c00 + kB * 8 + o));
+      w = _mm512_fmadd_ps(g00, _mm512_maskz_loadu_ps(m, c00 + o), w);
+      w = _mm512_fmadd_ps(g10, _mm512_maskz_loadu_ps(m, c10 + o), w);
+      w = _mm512_fmadd_ps(g11, _mm512_maskz_loadu_ps(m, c10 + kB * 8 + o), w);
+      u16[p] = _mm512_fmadd_ps(_mm512_maskz_loadu_ps(m, rot + o), w, u16[p]);
+      t16[p] = _mm512_fmadd_ps(_mm512_maskz_loadu_ps(m, rot + kB * 8 + o), w, t16[p]);
     }
   }
-  for (int p = 0; p < kPairs; ++p) {
-    _mm512_storeu_ps(u + 16 * p, u16[p]);
-    _mm512_storeu_ps(t + 16 * p, t16[p]);
-  }
-  if constexpr (kB % 2 == 1) {
-    _mm256_storeu_ps(u + 16 * kPairs, u8);
-    _mm256_storeu_ps(t + 16 * kPairs, t8);
+  for (int p = 0; p < kVectors; ++p) {
+    _mm512_mask_storeu_ps(u + 16 * p, mask(p), u16[p]);
+    _mm512_mask_storeu_ps(t + 16 * p, mask(p), t16[p]);
   }
 }
 
