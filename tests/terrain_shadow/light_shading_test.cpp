@@ -323,8 +323,8 @@ TEST(LightShading, SingleDirectionMarchEqualsTheRowMarch) {
 
 // Eight receivers at once, with one or three horizon samples: the lanes it closes agree with
 // make_light_cap + cap_transfer, and it hands back only wide caps (and, deferring, lit lanes).
-// Lane l of `in` (CapLanes or CapLanes16): a receiver from inside the light (every 50th
-// trial) to 150 m away, below and above it, with a tilted normal; horizons near the cap (all
+// Lane l of `in` (CapLanes, CapLanes16 or CapChordLanes16): a receiver from inside the light (every
+// 50th trial) to 150 m away, below and above it, with a tilted normal; horizons near the cap (all
 // cases), `samples` of them a little apart across it.
 template <class Lanes, class Horizon>
 void random_receiver(std::mt19937& rng, int trial, Lanes& in, int l, Horizon horizon, int samples) {
@@ -442,6 +442,67 @@ TEST(LightShading, FirstPassOnSixteenLanesGivesEightLanesBits) {
       "%d lit\n",
       compared, avx512 ? "AVX-512 and fallback" : "fallback only: no AVX-512 here", handed_back,
       lit);
+}
+
+// cap_chords16 is cap_transfer8 with `wide` infinite and no deferral on two halves, bit for bit:
+// the AVX-512 kernel where the CPU has it, and the fallback (two cap_transfer8 calls) forced.
+// Batches as the light's second pass fills them (every cap cut by the tangent plane, one or
+// three horizon samples), and every fifth batch with any receiver (lenses, and with three
+// samples front chords, which the kernel hands to the fallback).
+TEST(LightShading, CutChordsOnSixteenLanesGiveEightLanesBits) {
+  std::mt19937 rng(13);
+  const float radius = 2.0f, infinite = std::numeric_limits<float>::infinity();
+  int compared = 0, cut = 0, lit = 0;
+  const bool avx512 = detail::sweep_isa() == detail::SweepIsa::kAvx512;
+  for (int trial = 0; trial < 2000; ++trial) {
+    CapChordLanes16 in;
+    in.count = trial % 2 == 0 ? 3 : 1;
+    const bool any = trial % 5 == 0;
+    for (int l = 0; l < 16; ++l) {
+      for (int attempt = 0; attempt < 1000; ++attempt) {
+        random_receiver(
+            rng, trial, in, l, [&](int k) -> float& { return in.horizon[k][l]; }, 3);
+        const glm::vec3 d(in.dx[l], in.dy[l], in.dz[l]), n(in.nx[l], in.ny[l], in.nz[l]);
+        if (any || std::abs(glm::dot(n, d)) < radius) break;
+      }
+    }
+    if (trial % 7 == 0) in.horizon[0][trial % 16] = std::numeric_limits<float>::quiet_NaN();
+    float want[16];
+    for (int half = 0; half < 2; ++half) {
+      CapLanes h;
+      for (int l = 0; l < 8; ++l) {
+        const int q = 8 * half + l;
+        h.dx[l] = in.dx[q], h.dy[l] = in.dy[q], h.dz[l] = in.dz[q];
+        h.nx[l] = in.nx[q], h.ny[l] = in.ny[q], h.nz[l] = in.nz[q];
+        for (int k = 0; k < 3; ++k) h.horizon[k][l] = in.horizon[k][q];
+      }
+      h.count = in.count;
+      ASSERT_EQ(cap_transfer8(h, radius, infinite, 8, false, want + 8 * half), 0u);
+    }
+    for (const detail::SweepIsa isa : {detail::SweepIsa::kAvx2, detail::SweepIsa::kAvx512}) {
+      detail::force_sweep_isa(isa);
+      float got[16];
+      cap_chords16(in, radius, 8, got);
+      detail::force_sweep_isa(std::nullopt);
+      for (int l = 0; l < 16; ++l)
+        ASSERT_EQ(std::memcmp(&got[l], &want[l], sizeof(float)), 0)
+            << "trial " << trial << " lane " << l << ": " << got[l] << " vs " << want[l];
+      compared += 16;
+    }
+    for (int l = 0; l < 16; ++l) {
+      const glm::vec3 d(in.dx[l], in.dy[l], in.dz[l]), n(in.nx[l], in.ny[l], in.nz[l]);
+      LightCap cap;
+      const bool cut_cap = make_light_cap(d, radius, cap) && std::abs(glm::dot(n, d)) < radius;
+      cut += cut_cap && want[l] > 0 && want[l] < 0.999f * kPi * cap.rho * cap.rho;
+      lit += want[l] > 0;
+    }
+  }
+  EXPECT_GT(cut, 10000);  // measured 24,836
+  EXPECT_GT(lit, 15000);  // measured 27,823
+  std::printf(
+      "cap_chords16 vs cap_transfer8: %d lanes bit for bit (%s), %d cut by the horizon, "
+      "%d lit\n",
+      compared, avx512 ? "AVX-512 and fallback" : "fallback only: no AVX-512 here", cut, lit);
 }
 
 // The radial sweep gives ray_horizon towards the foot on its lines, and close to it between.

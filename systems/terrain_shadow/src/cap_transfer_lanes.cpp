@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <glm/geometric.hpp>
@@ -350,8 +351,10 @@ unsigned cap_transfer8(const CapLanes& in, float radius, float wide, int strips,
 }
 
 #ifdef __AVX2__
-namespace detail::avx512 {
-unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e);  // its file
+namespace detail::avx512 {  // cap_transfer_lanes_avx512.cpp
+unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e);
+// cap_chords16's kernel; false (e untouched) where a lane needs front chords.
+bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e);
 }  // namespace detail::avx512
 #endif
 
@@ -372,6 +375,26 @@ unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float*
     other |= cap_transfer8(lanes, radius, wide, 1, true, e + o) << o;
   }
   return other;
+}
+
+void cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e) {
+  strips = std::clamp(strips, 1, kMaxStrips);
+#ifdef __AVX2__
+  if (detail::sweep_isa() == detail::SweepIsa::kAvx512 &&
+      detail::avx512::cap_chords16(in, radius, strips, e))
+    return;
+#endif
+  const float infinite = std::numeric_limits<float>::infinity();
+  for (int half = 0; half < 2; ++half) {
+    CapLanes lanes;
+    const int o = 8 * half;
+    std::copy_n(in.dx + o, 8, lanes.dx), std::copy_n(in.dy + o, 8, lanes.dy);
+    std::copy_n(in.dz + o, 8, lanes.dz), std::copy_n(in.nx + o, 8, lanes.nx);
+    std::copy_n(in.ny + o, 8, lanes.ny), std::copy_n(in.nz + o, 8, lanes.nz);
+    for (int k = 0; k < kMaxCapHorizons; ++k) std::copy_n(in.horizon[k] + o, 8, lanes.horizon[k]);
+    lanes.count = in.count;
+    cap_transfer8(lanes, radius, infinite, strips, false, e + o);
+  }
 }
 
 }  // namespace penumbra::terrain_shadow

@@ -1,10 +1,13 @@
-// cap_first_pass16's AVX-512 kernel (cap_transfer.h): cap_lanes8<true> and front_lens8 of
-// cap_transfer_lanes.cpp on sixteen lanes, operation for operation (so the same floats), the
-// lane masks in mask registers. Chosen at run time by cap_first_pass16 (sweep_isa()).
+// cap_first_pass16's and cap_chords16's AVX-512 kernels (cap_transfer.h): cap_lanes8,
+// front_lens8 and general_chords8 of cap_transfer_lanes.cpp on sixteen lanes, operation for
+// operation (so the same floats), the lane masks in mask registers. Chosen at run time by
+// cap_first_pass16 and cap_chords16 (sweep_isa()).
 #include "penumbra/systems/terrain_shadow/cap_transfer.h"
 
+#include <algorithm>
 #include <cstddef>
 
+#include "cap_chords.h"
 #include "fast_math.h"
 
 #ifdef __AVX2__
@@ -62,7 +65,171 @@ namespace {
   return max16(_mm512_fmadd_ps(_mm512_mul_ps(rho, sphi), ends, arcs), zero);
 }
 
+// general_chords8 (caps the tangent plane cuts) on 16 lanes.
+[[gnu::always_inline]] inline __m512 general_chords16(__m512 rho, __m512 cos_half, __m512 nc,
+                                                      __m512 ns, __m512 nu, __m512 sin_e,
+                                                      __m512 cos_e, const __m512* chord_a,
+                                                      int strips) {
+  const __m512 one = _mm512_set1_ps(1.0f), zero = _mm512_setzero_ps();
+  const __m512 sign = _mm512_set1_ps(-0.0f), pi = _mm512_set1_ps(kPi);
+  const __m512 half_pi = _mm512_set1_ps(kHalfPi), two_pi = _mm512_set1_ps(2 * kPi);
+  const __m512 e = fast_atan_ratio16(sin_e, cos_e);  // cos_e >= 0
+  const __m512 r0 = sqrt16(_mm512_fmadd_ps(nu, nu, _mm512_mul_ps(nc, nc)));
+  // phase = atan2(nu, nc).
+  const __m512 base_phase = fast_atan_ratio16(nu, _mm512_andnot_ps(sign, nc));
+  const __m512 phase =
+      _mm512_mask_blend_ps(_mm512_cmp_ps_mask(nc, zero, _CMP_LT_OQ), base_phase,
+                           _mm512_sub_ps(_mm512_or_ps(_mm512_and_ps(sign, nu), pi), base_phase));
+  const StripNodes& nodes = strip_nodes();
+  const float* cos_psi = nodes.cos_psi.data() + nodes.offsets[strips];
+  const float* sin_psi = nodes.sin_psi.data() + nodes.offsets[strips];
+  __m512 acc = zero;
+  for (int j = 0; j < strips; ++j) {
+    const __m512 a = chord_a[j], aa = _mm512_mul_ps(a, a);
+    const __m512 sn = _mm512_set1_ps(sin_psi[j]);
+    const __m512 s = _mm512_mul_ps(rho, _mm512_set1_ps(cos_psi[j]));
+    const __m512 h = _mm512_mul_ps(rho, sn);
+    const __m512 q = _mm512_fnmadd_ps(s, s, one), r = sqrt16(q);
+    const __m512 t_max = fast_atan_ratio16(h, cos_half);
+    const __m512 as = fast_atan_ratio16(a, sqrt16(max16(_mm512_sub_ps(q, aa), zero)));
+    const __mmask16 partial = _mm512_cmp_ps_mask(a, _mm512_xor_ps(r, sign), _CMP_GT_OQ);
+    const __m512 lo = _mm512_mask_blend_ps(partial, _mm512_xor_ps(t_max, sign),
+                                           max16(_mm512_xor_ps(t_max, sign), _mm512_sub_ps(as, e)));
+    const __m512 hi =
+        _mm512_mask_blend_ps(partial, t_max, min16(t_max, _mm512_sub_ps(_mm512_sub_ps(pi, as), e)));
+    const __mmask16 ok = static_cast<__mmask16>(~_mm512_cmp_ps_mask(a, r, _CMP_GE_OQ)) &
+                         _mm512_cmp_ps_mask(lo, hi, _CMP_LT_OQ);
+    // In front of the tangent plane: r0 r cos(t - phase) + ns s > 0.
+    const __m512 rr = _mm512_mul_ps(r0, r), nss = _mm512_mul_ps(ns, s);
+    const __mmask16 no_plane = _mm512_cmp_ps_mask(rr, zero, _CMP_LE_OQ);
+    const __m512 b = _mm512_div_ps(_mm512_xor_ps(nss, sign), max16(rr, _mm512_set1_ps(1e-30f)));
+    const __mmask16 whole = (no_plane & _mm512_cmp_ps_mask(nss, zero, _CMP_GT_OQ)) |
+                            (~no_plane & _mm512_cmp_ps_mask(b, _mm512_set1_ps(-1.0f), _CMP_LE_OQ));
+    const __mmask16 pieces = ~(no_plane | whole) & _mm512_cmp_ps_mask(b, one, _CMP_LT_OQ);
+    const __m512 bc = min16(max16(b, _mm512_set1_ps(-1.0f)), one);
+    const __m512 width = _mm512_sub_ps(
+        half_pi, fast_atan_ratio16(bc, sqrt16(max16(_mm512_fnmadd_ps(bc, bc, one), zero))));
+    __m512 part = zero;
+    for (int k = -1; k <= 1; ++k) {
+      const __m512 centre =
+          _mm512_add_ps(phase, _mm512_mul_ps(_mm512_set1_ps(static_cast<float>(k)), two_pi));
+      __m512 l = max16(lo, _mm512_sub_ps(centre, width));
+      __m512 u = min16(hi, _mm512_add_ps(centre, width));
+      __mmask16 use = pieces & _mm512_cmp_ps_mask(l, u, _CMP_LT_OQ);
+      if (k == 0) {  // the whole chord takes this slot
+        l = _mm512_mask_blend_ps(whole, l, lo);
+        u = _mm512_mask_blend_ps(whole, u, hi);
+        use |= whole;
+      }
+      if (use == 0) continue;
+      const __m512 m = _mm512_mul_ps(_mm512_add_ps(u, l), _mm512_set1_ps(0.5f));
+      const __m512 half = _mm512_mul_ps(_mm512_sub_ps(u, l), _mm512_set1_ps(0.5f));
+      const __m512 chord =
+          _mm512_fmadd_ps(_mm512_mul_ps(_mm512_add_ps(r, r), fast_sin16(half)),
+                          _mm512_fmadd_ps(nc, fast_cos16(m), _mm512_mul_ps(nu, fast_sin16(m))),
+                          _mm512_mul_ps(nss, _mm512_sub_ps(u, l)));
+      part = _mm512_add_ps(part, _mm512_maskz_mov_ps(use, chord));
+    }
+    acc = _mm512_fmadd_ps(sn, _mm512_maskz_mov_ps(ok, part), acc);
+  }
+  return acc;
+}
+
 }  // namespace
+
+bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e) {
+  const int count = std::clamp(in.count, 1, kMaxCapHorizons);
+  const __m512 dx = _mm512_loadu_ps(in.dx), dy = _mm512_loadu_ps(in.dy),
+               dz = _mm512_loadu_ps(in.dz);
+  const __m512 nx = _mm512_loadu_ps(in.nx), ny = _mm512_loadu_ps(in.ny),
+               nz = _mm512_loadu_ps(in.nz);
+  const __m512 r = _mm512_set1_ps(radius), one = _mm512_set1_ps(1.0f);
+  const __m512 zero = _mm512_setzero_ps();
+  // make_light_cap in lanes.
+  const __m512 plane2 = _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx));
+  const __m512 dist = sqrt16(_mm512_fmadd_ps(dz, dz, plane2));
+  const __mmask16 outside = _mm512_cmp_ps_mask(dist, r, _CMP_GT_OQ);
+  const __m512 inv = _mm512_div_ps(one, dist);
+  const __m512 nd = _mm512_fmadd_ps(nz, dz, _mm512_fmadd_ps(ny, dy, _mm512_mul_ps(nx, dx)));
+  const __mmask16 front = _mm512_cmp_ps_mask(nd, _mm512_sub_ps(zero, r), _CMP_GT_OQ);
+  const __m512 rho = _mm512_mul_ps(r, inv), nc = _mm512_mul_ps(nd, inv);
+  const __m512 plane = sqrt16(plane2);
+  const __m512 cos_e = _mm512_mul_ps(plane, inv), sin_e = _mm512_mul_ps(dz, inv);
+  const __m512 cos_half =
+      _mm512_mul_ps(sqrt16(_mm512_mul_ps(_mm512_sub_ps(dist, r), _mm512_add_ps(dist, r))), inv);
+  // Sines of the horizon samples, their lowest and highest.
+  const __m512 half_pi = _mm512_set1_ps(kHalfPi);
+  __m512 sh[kMaxCapHorizons] = {};
+  for (int k = 0; k < count; ++k)
+    sh[k] = fast_sin16(
+        min16(max16(_mm512_loadu_ps(in.horizon[k]), _mm512_sub_ps(zero, half_pi)), half_pi));
+  __m512 lowest = sh[0], highest = sh[0];
+  for (int k = 1; k < count; ++k) lowest = min16(lowest, sh[k]), highest = max16(highest, sh[k]);
+  const __mmask16 pole = _mm512_cmp_ps_mask(rho, cos_e, _CMP_GT_OQ);
+  const __m512 bottom = _mm512_mask_blend_ps(
+      pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_LT_OQ),
+      _mm512_fmsub_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), _mm512_set1_ps(-1.0f));
+  const __m512 top =
+      _mm512_mask_blend_ps(pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_GT_OQ),
+                           _mm512_fmadd_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), one);
+  const __mmask16 lit =
+      outside & front & _mm512_cmp_ps_mask(nc, _mm512_sub_ps(zero, rho), _CMP_GT_OQ);
+  const __mmask16 visible = lit & _mm512_cmp_ps_mask(lowest, top, _CMP_LT_OQ);
+  const __mmask16 open = _mm512_cmp_ps_mask(highest, bottom, _CMP_LE_OQ);
+  const __mmask16 in_front = _mm512_cmp_ps_mask(nc, rho, _CMP_GE_OQ);
+  // No cap is wide (`wide` infinite) and nothing is deferred: the caps the tangent plane cuts
+  // take general chords; those in front of it the horizon cuts, the lens (one sample).
+  const __mmask16 cut = ~in_front & visible;
+  const __mmask16 chords = ~cut & ~(open & in_front) & visible;
+  const bool lens = count == 1;
+  if (!lens && chords != 0) return false;  // front chords: not in this kernel
+  __m512 value = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(kPi), _mm512_mul_ps(rho, rho)), nc);
+  const __mmask16 any_chords = chords | cut;
+  if (any_chords != 0) {
+    // The cap's frame (cap_transfer): side = (-pd.y, pd.x, 0), up = (-sin_e pd, cos_e).
+    const __mmask16 has_plane = _mm512_cmp_ps_mask(plane, zero, _CMP_GT_OQ);
+    const __m512 inv_plane = _mm512_div_ps(one, max16(plane, _mm512_set1_ps(1e-30f)));
+    const __m512 pdx = _mm512_mask_blend_ps(has_plane, one, _mm512_mul_ps(dx, inv_plane));
+    const __m512 pdy = _mm512_maskz_mov_ps(has_plane, _mm512_mul_ps(dy, inv_plane));
+    const __m512 ns = _mm512_fmsub_ps(ny, pdx, _mm512_mul_ps(nx, pdy));
+    const __m512 nw = _mm512_fmadd_ps(ny, pdy, _mm512_mul_ps(nx, pdx));
+    const __m512 nu = _mm512_fmsub_ps(nz, cos_e, _mm512_mul_ps(sin_e, nw));
+    __m512 lens_value = zero;
+    if (lens && chords != 0) {
+      const __m512 omega =
+          min16(max16(_mm512_loadu_ps(in.horizon[0]), _mm512_sub_ps(zero, half_pi)), half_pi);
+      lens_value = front_lens16(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega, sh[0]);
+    }
+    __m512 sum = zero;
+    if (cut != 0) {
+      // The horizon along each chord: linear in tau = cos(psi) between the samples; open: -1.
+      __m512 chord_a[kMaxStrips];
+      const StripNodes& sn = strip_nodes();
+      const float* cos_psi = sn.cos_psi.data() + sn.offsets[strips];
+      const float* tau = nodes().tau[count].data();
+      for (int j = 0; j < strips; ++j) {
+        __m512 a = sh[0];
+        if (count > 1) {
+          const float c = cos_psi[j];
+          int k = 0;
+          while (k + 2 < count && c > tau[k + 1]) ++k;
+          const float w = std::clamp((c - tau[k]) / (tau[k + 1] - tau[k]), 0.0f, 1.0f);
+          a = _mm512_fmadd_ps(_mm512_set1_ps(w), _mm512_sub_ps(sh[k + 1], sh[k]), sh[k]);
+        }
+        chord_a[j] = _mm512_mask_blend_ps(open, a, _mm512_set1_ps(-1.0f));
+      }
+      sum = _mm512_maskz_mov_ps(
+          cut, general_chords16(rho, cos_half, nc, ns, nu, sin_e, cos_e, chord_a, strips));
+    }
+    const __m512 scaled = max16(
+        _mm512_mul_ps(sum, _mm512_mul_ps(rho, _mm512_set1_ps(kPi / static_cast<float>(strips)))),
+        zero);
+    value = _mm512_mask_blend_ps(any_chords, value, scaled);
+    if (lens) value = _mm512_mask_blend_ps(chords, value, lens_value);
+  }
+  _mm512_storeu_ps(e, _mm512_maskz_mov_ps(visible, value));
+  return true;
+}
 
 unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e) {
   const __m512 dx = _mm512_loadu_ps(in.dx), dy = _mm512_loadu_ps(in.dy),

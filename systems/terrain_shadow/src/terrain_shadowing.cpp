@@ -11,6 +11,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include <tbb/blocked_range.h>
@@ -165,6 +166,16 @@ void compute_horizons(HorizonMethod method, const data::HeightField& f,
       break;
   }
 }
+
+// A light's receivers waiting for their chords (add_cap_light): W lanes of `Lanes`.
+template <class Lanes, int W>
+struct ChordQueue {
+  static constexpr int kWidth = W;
+  Lanes batch;
+  std::size_t at[W];  // the receivers' texels
+  int queued = 0;
+  bool varied = false;  // some lane has samples of its own (else one sample is the same)
+};
 
 }  // namespace
 
@@ -523,38 +534,36 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
     const int samples = config_.cap_horizons;
     const int middle = samples % 2 == 1 ? samples / 2 : -1;
     // Two queues, kept across the task's spans: caps the tangent plane cuts (|n.d| < radius:
-    // general_chords8) and the others (front_chords8), so that a batch runs one of the two chord
-    // kernels, not both, and is partly filled only at the end (each lane's floats are the same in
-    // any batch).
-    struct Queue {
-      CapLanes batch;
-      std::size_t at[8];  // the receivers' texels
-      int queued = 0;
-      bool varied = false;  // some lane has samples of its own (else one sample is the same)
-    };
-    Queue queues[2];
-    auto flush = [&](Queue& qu) {
-      CapLanes& batch = qu.batch;
+    // general chords, sixteen at a time, cap_chords16) and the others (front chords or the lens,
+    // eight, cap_transfer8), so that a batch runs one of the two chord kernels, not both, and is
+    // partly filled only at the end (each lane's floats are the same in any batch).
+    ChordQueue<CapLanes, 8> front_queue;
+    ChordQueue<CapChordLanes16, 16> cut_queue;
+    auto flush = [&](auto& qu) {
+      constexpr int W = std::remove_reference_t<decltype(qu)>::kWidth;
+      auto& batch = qu.batch;
       const int queued = qu.queued;
       batch.count = qu.varied ? samples : 1;
-      for (int l = queued; l < 8; ++l) {  // padding lanes repeat the first
+      for (int l = queued; l < W; ++l) {  // padding lanes repeat the first
         batch.dx[l] = batch.dx[0], batch.dy[l] = batch.dy[0], batch.dz[l] = batch.dz[0];
         batch.nx[l] = batch.nx[0], batch.ny[l] = batch.ny[0], batch.nz[l] = batch.nz[0];
         for (int k = 0; k < samples; ++k) batch.horizon[k][l] = batch.horizon[k][0];
       }
-      float e[8];
-      cap_transfer8(batch, radius, std::numeric_limits<float>::infinity(), config_.cap_strips,
-                    false, e);
+      float e[W];
+      if constexpr (W == 16)
+        cap_chords16(batch, radius, config_.cap_strips, e);
+      else
+        cap_transfer8(batch, radius, std::numeric_limits<float>::infinity(), config_.cap_strips,
+                      false, e);
       for (int l = 0; l < queued; ++l)
         if (e[l] > 0) add_lit(radiance, e[l], irradiance[qu.at[l]]);
       qu.queued = 0;
       qu.varied = false;
     };
-    auto enqueue = [&](const CapLanes16& lanes, int l, int x, int y) {
+    auto push = [&](auto& qu, const CapLanes16& lanes, int l, int x, int y) {
+      constexpr int W = std::remove_reference_t<decltype(qu)>::kWidth;
       const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
-      const glm::vec3 n(lanes.nx[l], lanes.ny[l], lanes.nz[l]);
-      Queue& qu = queues[std::abs(glm::dot(n, d)) < radius ? 1 : 0];
-      CapLanes& batch = qu.batch;
+      auto& batch = qu.batch;
       const int q = qu.queued;
       batch.dx[q] = lanes.dx[l], batch.dy[q] = lanes.dy[l], batch.dz[q] = lanes.dz[l];
       batch.nx[q] = lanes.nx[l], batch.ny[q] = lanes.ny[l], batch.nz[q] = lanes.nz[l];
@@ -576,7 +585,15 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         }
       }
       qu.at[q] = static_cast<std::size_t>(y) * f.width + x;
-      if (++qu.queued == 8) flush(qu);
+      if (++qu.queued == W) flush(qu);
+    };
+    auto enqueue = [&](const CapLanes16& lanes, int l, int x, int y) {
+      const glm::vec3 d(lanes.dx[l], lanes.dy[l], lanes.dz[l]);
+      const glm::vec3 n(lanes.nx[l], lanes.ny[l], lanes.nz[l]);
+      if (std::abs(glm::dot(n, d)) < radius)
+        push(cut_queue, lanes, l, x, y);
+      else
+        push(front_queue, lanes, l, x, y);
     };
     for (std::size_t si = s0; si < s1; ++si) {
       const Span& span = spans[si];
@@ -631,8 +648,8 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         }
       }
     }
-    for (Queue& qu : queues)
-      if (qu.queued > 0) flush(qu);
+    if (front_queue.queued > 0) flush(front_queue);
+    if (cut_queue.queued > 0) flush(cut_queue);
   };
   tbb::parallel_for(
       tbb::blocked_range<std::size_t>(0, spans.size()),

@@ -95,4 +95,18 @@ struct CapLanes16 {
 };
 unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e);
 
+// A light's second pass over the receivers whose caps its tangent plane cuts (|n.d| < radius),
+// sixteen at once: cap_transfer8 with `wide` infinite and no deferral on lanes 0-7 and 8-15,
+// the same floats (tested bit for bit; no lane is handed back). One AVX-512 kernel where the
+// CPU has it (the cut caps' chords are a light's costliest lanes; sixteen serve in about the
+// time eight took); a batch with a lane in front of the tangent plane that the horizon cuts
+// with several samples (front chords, rare in this pass), and CPUs without AVX-512, run two
+// cap_transfer8 calls.
+struct CapChordLanes16 {
+  float dx[16], dy[16], dz[16], nx[16], ny[16], nz[16];
+  float horizon[kMaxCapHorizons][16];
+  int count = 1;  // horizon samples per lane, 1..kMaxCapHorizons
+};
+void cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e);
+
 }  // namespace penumbra::terrain_shadow
