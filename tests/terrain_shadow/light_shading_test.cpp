@@ -567,6 +567,39 @@ TEST(LightShading, RadialHorizonsEightAtATimeEqualOneAtATime) {
   EXPECT_GT(vector_rows, 500);
 }
 
+// horizons16 gives horizon()'s floats for sixteen texels of a row, bit for bit: its AVX-512 path
+// where the CPU has it (all sixteen on one side of the foot) and horizons8 on each half
+// otherwise, the AVX2 path forced; every start column, so runs straddle the sides' borders.
+TEST(LightShading, RadialHorizonsSixteenAtATimeEqualOneAtATime) {
+  auto f = mountains(64);
+  int one_side = 0;
+  for (const glm::vec2 foot : {glm::vec2(30.5f, 20.0f), glm::vec2(40.0f, 51.5f),
+                               glm::vec2(-20.0f, 30.0f), glm::vec2(70.0f, -3.0f)}) {
+    RadialHorizonSweep sweep;
+    sweep.run(*f, 1.2f, foot * f->cell_size);
+    for (const detail::SweepIsa isa : {detail::SweepIsa::kAvx2, detail::SweepIsa::kAvx512}) {
+      detail::force_sweep_isa(isa);
+      for (int y = 0; y < 64; ++y)
+        for (int x0 = 0; x0 + 16 <= 64; ++x0) {
+          float sixteen[16];
+          sweep.horizons16(x0, y, sixteen);
+          for (int l = 0; l < 16; ++l) {
+            const float one = sweep.horizon(x0 + l, y);
+            ASSERT_EQ(std::memcmp(&sixteen[l], &one, sizeof(float)), 0)
+                << "foot (" << foot.x << ", " << foot.y << ") texel (" << x0 + l << ", " << y
+                << "): " << sixteen[l] << " vs " << one;
+          }
+          const float ry = std::abs(static_cast<float>(y) - foot.y);
+          const float rx0 = static_cast<float>(x0) - foot.x, rx15 = rx0 + 15;
+          one_side += isa == detail::SweepIsa::kAvx512 &&
+                      (rx0 >= ry || -rx15 >= ry || (std::abs(rx0) < ry && std::abs(rx15) < ry));
+        }
+      detail::force_sweep_isa(std::nullopt);
+    }
+  }
+  EXPECT_GT(one_side, 3000);
+}
+
 // The same light twice on two threads gives the same bits: which thread shades which span must
 // not matter (docs/terrain_shadow.md, "Lights, third round": TBB's inlined copies of a parallel
 // body once fused multiply-adds differently).

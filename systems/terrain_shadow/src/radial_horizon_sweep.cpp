@@ -16,7 +16,9 @@
 
 #include "fast_math.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "radial_lookup.h"
 #include "radial_sweep_lanes.h"
+#include "sweep_lanes.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
@@ -230,6 +232,33 @@ float RadialHorizonSweep::horizon(int x, int y) const {
     return std::isnan(lo) ? (std::isnan(hi) ? -kHalfPi : hi) : lo;
   }
   return std::fma(t, hi - lo, lo);
+}
+
+void RadialHorizonSweep::horizons16(int x0, int y, float* out) const {
+#ifdef __AVX2__
+  if (detail::sweep_isa() == detail::SweepIsa::kAvx512) {
+    // As horizons8: all sixteen texels on one side of F (rx is monotonic in x).
+    const float ry = static_cast<float>(y) - foot_.y;
+    const float rx0 = static_cast<float>(x0) - foot_.x,
+                rx15 = static_cast<float>(x0 + 15) - foot_.x;
+    int index = -1;
+    if (rx0 > 0 && rx0 >= std::fabs(ry))
+      index = 0;
+    else if (rx15 < 0 && -rx15 >= std::fabs(ry))
+      index = 1;
+    else if (std::fabs(rx0) < std::fabs(ry) && std::fabs(rx15) < std::fabs(ry))
+      index = ry > 0 ? 2 : 3;
+    if (index >= 0 && sides_[index].lines >= 2) {
+      const Side& side = sides_[index];
+      const detail::RadialSideView view{side.angle.data(), side.columns,        side.lines,
+                                        side.j_lo,         side.u_first,        side.sign,
+                                        side.x_major,      side.lines_per_slope};
+      if (detail::avx512::radial_horizons16(view, foot_.x, foot_.y, x0, y, out)) return;
+    }
+  }
+#endif
+  horizons8(x0, y, out);
+  horizons8(x0 + 8, y, out + 8);
 }
 
 void RadialHorizonSweep::horizons8(int x0, int y, float* out) const {

@@ -602,8 +602,7 @@ void TerrainShadowing<N>::add_cap_light(const glm::vec3& centre, float radius,
         const int n = std::min(16, span.x1 - x0);
         CapLanes16 lanes;
         if (n == 16) {
-          radial_.horizons8(x0, y, lanes.horizon);
-          radial_.horizons8(x0 + 8, y, lanes.horizon + 8);
+          radial_.horizons16(x0, y, lanes.horizon);
           // centre - position(x, y) (as for a span's last receivers below), in loops the
           // compiler puts on vector lanes.
           const std::size_t i0 = static_cast<std::size_t>(y) * f.width + x0;

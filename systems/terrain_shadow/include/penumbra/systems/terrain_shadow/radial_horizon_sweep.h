@@ -52,6 +52,10 @@ class RadialHorizonSweep {
   // horizon() of the eight texels (x0 + l, y), l < 8, all inside the field, into out[l]: the
   // same floats, eight at a time where they lie on one side of the foot (AVX2).
   void horizons8(int x0, int y, float* out) const;
+  // horizon() of the sixteen texels (x0 + l, y), l < 16, all inside the field: the same floats,
+  // sixteen at a time on AVX-512 (sweep_isa()) where they lie on one side of the foot, else as
+  // horizons8 on each half.
+  void horizons16(int x0, int y, float* out) const;
 
  private:
   struct Side {
