@@ -237,24 +237,27 @@ float RadialHorizonSweep::horizon(int x, int y) const {
 void RadialHorizonSweep::horizons16(int x0, int y, float* out) const {
 #ifdef __AVX2__
   if (detail::sweep_isa() == detail::SweepIsa::kAvx512) {
-    // As horizons8: all sixteen texels on one side of F (rx is monotonic in x).
-    const float ry = static_cast<float>(y) - foot_.y;
+    // Each side the run reaches (at most two: +x or -x where |rx| >= |ry| at an end, +y or -y by
+    // ry's sign where |rx| < |ry| somewhere), then horizon() for the lanes none of them answered
+    // (the foot's texel, columns past a side, NaN lines).
+    const float ry = static_cast<float>(y) - foot_.y, ary = std::fabs(ry);
     const float rx0 = static_cast<float>(x0) - foot_.x,
                 rx15 = static_cast<float>(x0 + 15) - foot_.x;
-    int index = -1;
-    if (rx0 > 0 && rx0 >= std::fabs(ry))
-      index = 0;
-    else if (rx15 < 0 && -rx15 >= std::fabs(ry))
-      index = 1;
-    else if (std::fabs(rx0) < std::fabs(ry) && std::fabs(rx15) < std::fabs(ry))
-      index = ry > 0 ? 2 : 3;
-    if (index >= 0 && sides_[index].lines >= 2) {
+    const bool y_side = std::min(std::fabs(rx0), std::fabs(rx15)) < ary || (rx0 < 0 && rx15 > 0);
+    const bool reaches[4] = {rx15 > 0 && rx15 >= ary, rx0 < 0 && -rx0 >= ary, y_side && ry > 0,
+                             y_side && ry < 0};
+    unsigned done = 0;
+    for (int index = 0; index < 4; ++index) {
       const Side& side = sides_[index];
+      if (!reaches[index] || side.lines < 2) continue;
       const detail::RadialSideView view{side.angle.data(), side.columns,        side.lines,
                                         side.j_lo,         side.u_first,        side.sign,
                                         side.x_major,      side.lines_per_slope};
-      if (detail::avx512::radial_horizons16(view, foot_.x, foot_.y, x0, y, out)) return;
+      done |= detail::avx512::radial_horizons16(view, index, foot_.x, foot_.y, x0, y, out);
     }
+    for (int l = 0; l < 16; ++l)
+      if (!(done >> l & 1u)) out[l] = horizon(x0 + l, y);
+    return;
   }
 #endif
   horizons8(x0, y, out);

@@ -14,11 +14,12 @@ struct RadialSideView {
 };
 
 namespace avx512 {
-// horizons8's floats for the sixteen texels (x0 + l, y), l < 16, all on `side` (the caller
-// checks) with the foot at (foot_x, foot_y) cells and side.lines >= 2: false (out untouched)
-// where a texel's column is outside the side or a line beside it is NaN.
-bool radial_horizons16(const RadialSideView& side, float foot_x, float foot_y, int x0, int y,
-                       float* out);
+// horizons8's floats, written to out[l], for those of the sixteen texels (x0 + l, y), l < 16,
+// that lie on side `index` of the foot (at (foot_x, foot_y) cells; side.lines >= 2) inside its
+// columns with both lines beside them finite; returns their lanes (bit l: out[l] written). The
+// others are horizon()'s to answer.
+unsigned radial_horizons16(const RadialSideView& side, int index, float foot_x, float foot_y,
+                           int x0, int y, float* out);
 }  // namespace avx512
 
 }  // namespace penumbra::terrain_shadow::detail

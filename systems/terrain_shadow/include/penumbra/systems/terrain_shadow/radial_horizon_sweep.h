@@ -53,8 +53,8 @@ class RadialHorizonSweep {
   // same floats, eight at a time where they lie on one side of the foot (AVX2).
   void horizons8(int x0, int y, float* out) const;
   // horizon() of the sixteen texels (x0 + l, y), l < 16, all inside the field: the same floats,
-  // sixteen at a time on AVX-512 (sweep_isa()) where they lie on one side of the foot, else as
-  // horizons8 on each half.
+  // on AVX-512 (sweep_isa()) one 16-lane pass per side of the foot the run reaches (texels a pass
+  // cannot answer through horizon()), else horizons8 on each half.
   void horizons16(int x0, int y, float* out) const;
 
  private:
