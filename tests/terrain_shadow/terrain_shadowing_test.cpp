@@ -7,8 +7,10 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 #include <glm/geometric.hpp>
 
@@ -64,6 +66,44 @@ TEST(TerrainShadowing, EditUpdateEqualsAFullUpdate) {
                           fresh.transfer().size() * sizeof(fresh.transfer()[0])),
               0);
   }
+}
+
+// An edit whose field has a non-finite height throws, naming the sample, and leaves the shading
+// as it was: the next good edit still equals a full update, bit for bit.
+TEST(TerrainShadowing, ANonFiniteEditThrowsAndChangesNothing) {
+  TerrainShadowConfig config;
+  config.azimuths = 16;
+  TerrainShadowing<4> edited(config), fresh(config);
+  auto field = mountains(48);
+  edited.update(field, 1.0f);
+  const auto horizons = edited.horizons().angles;
+  const auto transfer = edited.transfer();
+  Brush b;
+  b.centre = {40.0f, 50.0f};
+  b.radius = 9.0f;
+  b.strength = 12.0f;
+  EditResult bad = apply_brush(field, b);
+  auto nan_field = std::make_shared<data::HeightField>(*bad.field);
+  nan_field->heights[static_cast<std::size_t>(20) * 48 + 19] =
+      std::numeric_limits<float>::quiet_NaN();
+  try {
+    edited.update_edit(nan_field, 1.0f, bad.changed);
+    ADD_FAILURE() << "a NaN height was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("(19, 20)"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(&edited.field(), field.get());
+  EXPECT_EQ(edited.horizons().angles, horizons);
+  EXPECT_EQ(
+      std::memcmp(edited.transfer().data(), transfer.data(), transfer.size() * sizeof(transfer[0])),
+      0);
+  const EditResult good = apply_brush(field, b);
+  edited.update_edit(good.field, 1.0f, good.changed);
+  fresh.update(good.field, 1.0f);
+  EXPECT_EQ(edited.horizons().angles, fresh.horizons().angles);
+  EXPECT_EQ(std::memcmp(edited.transfer().data(), fresh.transfer().data(),
+                        fresh.transfer().size() * sizeof(fresh.transfer()[0])),
+            0);
 }
 
 TEST(TerrainShadowing, FlatGroundSeesTheWholeSky) {

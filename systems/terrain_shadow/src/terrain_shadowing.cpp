@@ -200,7 +200,7 @@ template <int N>
 void TerrainShadowing<N>::compute_normals(const TexelRect& r) {
   const data::HeightField& f = *field_;
   // Central differences, one-sided at the border (as reference::height_field_receivers).
-  tbb::parallel_for(r.y0, r.y1, [&](int y) {
+  auto row = [&](int y) {
     for (int x = r.x0; x < r.x1; ++x) {
       const int xa = std::max(x - 1, 0), xb = std::min(x + 1, f.width - 1);
       const int ya = std::max(y - 1, 0), yb = std::min(y + 1, f.height - 1);
@@ -209,7 +209,14 @@ void TerrainShadowing<N>::compute_normals(const TexelRect& r) {
       const glm::vec3 n(-dx, -dy, 1.0f);
       normals_[static_cast<std::size_t>(y) * f.width + x] = n / std::sqrt(glm::dot(n, n));
     }
-  });
+  };
+  // An edit's few rows on this thread (a parallel loop would cost more than its work: waking a
+  // worker for a few microseconds' of rows); the field's rows in parallel.
+  if (r.count() <= 64 * 64) {
+    for (int y = r.y0; y < r.y1; ++y) row(y);
+    return;
+  }
+  tbb::parallel_for(r.y0, r.y1, row);
 }
 
 template <int N>
@@ -302,7 +309,15 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightF
   edited.y0 = std::max(edited.y0, 0);
   edited.x1 = std::min(edited.x1, field->width);
   edited.y1 = std::min(edited.y1, field->height);
-  validate_horizon_input(*field, p, edited);
+  // Every horizon the edit can change lies on a sweep line passing within a sample of it:
+  // recompute those lines exactly as a full sweep would (sweep_horizons_through), then the
+  // transfer of texels whose horizons or normal changed. sweep_horizons_through validates the
+  // field before it writes anything, so a bad one throws here with this object unchanged.
+  // The flags are all zero between edits (cleared below from the list), so an edit does not
+  // clear the whole field's.
+  std::vector<unsigned char>& changed = edit_flags_;
+  UpdateStats stats;
+  stats.horizon_pairs = sweep_horizons_through(*field, p, edited, horizons_, changed, sweep_);
   field_ = std::move(field);
   if (edited.empty()) return {};
   const data::HeightField& f = *field_;
@@ -314,17 +329,8 @@ UpdateStats TerrainShadowing<N>::update_edit(std::shared_ptr<const data::HeightF
                     std::min(edited.x1 + 1, w), std::min(edited.y1 + 1, h)};
   compute_normals(e);
   if (pyramid_valid_) pyramid_.build(f, height_scale, config_.pyramid);
-  // Every horizon the edit can change lies on a sweep line passing within a sample of it:
-  // recompute those lines exactly as a full sweep would (sweep_horizons_through), then the
-  // transfer of texels whose horizons or normal changed.
-  // The flags are all zero between edits (cleared below from the list), so an edit does not
-  // clear the whole field's.
-  std::vector<unsigned char>& changed = edit_flags_;
-  changed.resize(static_cast<std::size_t>(w) * h, 0);
   for (int y = e.y0; y < e.y1; ++y)
     for (int x = e.x0; x < e.x1; ++x) changed[static_cast<std::size_t>(y) * w + x] = 1;
-  UpdateStats stats;
-  stats.horizon_pairs = sweep_horizons_through(f, p, edited, horizons_, changed, sweep_);
   std::vector<std::size_t> texels;
   std::size_t i = 0;
   for (; i + 32 <= changed.size(); i += 32) {  // 32 flags at a time: most are zero
