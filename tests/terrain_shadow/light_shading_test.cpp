@@ -343,6 +343,18 @@ void random_receiver(std::mt19937& rng, int trial, Lanes& in, int l, Horizon hor
   for (int k = 1; k < samples; ++k) horizon(k) = horizon(0) + (u01(rng) - 0.5f) * 0.1f;
 }
 
+// Receivers 8 half .. 8 half + 7 of sixteen lanes as a CapLanes (horizons left to the caller).
+template <class Lanes16>
+CapLanes half_of(const Lanes16& in, int half) {
+  CapLanes h;
+  for (int l = 0; l < 8; ++l) {
+    const int q = 8 * half + l;
+    h.dx[l] = in.dx[q], h.dy[l] = in.dy[q], h.dz[l] = in.dz[q];
+    h.nx[l] = in.nx[q], h.ny[l] = in.ny[q], h.nz[l] = in.nz[q];
+  }
+  return h;
+}
+
 TEST(LightShading, CapTransferOnEightLanesEqualsOneAtATime) {
   std::mt19937 rng(5);
   const float radius = 2.0f, wide = 0.2f;
@@ -412,13 +424,8 @@ TEST(LightShading, FirstPassOnSixteenLanesGivesEightLanesBits) {
     float want[16];
     unsigned want_other = 0;
     for (int half = 0; half < 2; ++half) {
-      CapLanes h;
-      for (int l = 0; l < 8; ++l) {
-        const int q = 8 * half + l;
-        h.dx[l] = in.dx[q], h.dy[l] = in.dy[q], h.dz[l] = in.dz[q];
-        h.nx[l] = in.nx[q], h.ny[l] = in.ny[q], h.nz[l] = in.nz[q];
-        h.horizon[0][l] = in.horizon[q];
-      }
+      CapLanes h = half_of(in, half);
+      for (int l = 0; l < 8; ++l) h.horizon[0][l] = in.horizon[8 * half + l];
       want_other |= cap_transfer8(h, radius, wide, 8, true, want + 8 * half) << (8 * half);
     }
     for (const detail::SweepIsa isa : {detail::SweepIsa::kAvx2, detail::SweepIsa::kAvx512}) {
@@ -469,13 +476,9 @@ TEST(LightShading, CutChordsOnSixteenLanesGiveEightLanesBits) {
     if (trial % 7 == 0) in.horizon[0][trial % 16] = std::numeric_limits<float>::quiet_NaN();
     float want[16];
     for (int half = 0; half < 2; ++half) {
-      CapLanes h;
-      for (int l = 0; l < 8; ++l) {
-        const int q = 8 * half + l;
-        h.dx[l] = in.dx[q], h.dy[l] = in.dy[q], h.dz[l] = in.dz[q];
-        h.nx[l] = in.nx[q], h.ny[l] = in.ny[q], h.nz[l] = in.nz[q];
-        for (int k = 0; k < 3; ++k) h.horizon[k][l] = in.horizon[k][q];
-      }
+      CapLanes h = half_of(in, half);
+      for (int k = 0; k < 3; ++k)
+        for (int l = 0; l < 8; ++l) h.horizon[k][l] = in.horizon[k][8 * half + l];
       h.count = in.count;
       ASSERT_EQ(cap_transfer8(h, radius, infinite, 8, false, want + 8 * half), 0u);
     }

@@ -358,6 +358,18 @@ bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e)
 }  // namespace detail::avx512
 #endif
 
+namespace {
+// Receivers o .. o + 7 of sixteen (CapLanes16 or CapChordLanes16) as eight lanes, horizons not set.
+template <class Lanes16>
+CapLanes receivers_of(const Lanes16& in, int o) {
+  CapLanes lanes;
+  std::copy_n(in.dx + o, 8, lanes.dx), std::copy_n(in.dy + o, 8, lanes.dy);
+  std::copy_n(in.dz + o, 8, lanes.dz), std::copy_n(in.nx + o, 8, lanes.nx);
+  std::copy_n(in.ny + o, 8, lanes.ny), std::copy_n(in.nz + o, 8, lanes.nz);
+  return lanes;
+}
+}  // namespace
+
 unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e) {
 #ifdef __AVX2__
   if (detail::sweep_isa() == detail::SweepIsa::kAvx512)
@@ -365,11 +377,8 @@ unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float*
 #endif
   unsigned other = 0;
   for (int half = 0; half < 2; ++half) {
-    CapLanes lanes;
     const int o = 8 * half;
-    std::copy_n(in.dx + o, 8, lanes.dx), std::copy_n(in.dy + o, 8, lanes.dy);
-    std::copy_n(in.dz + o, 8, lanes.dz), std::copy_n(in.nx + o, 8, lanes.nx);
-    std::copy_n(in.ny + o, 8, lanes.ny), std::copy_n(in.nz + o, 8, lanes.nz);
+    CapLanes lanes = receivers_of(in, o);
     std::copy_n(in.horizon + o, 8, lanes.horizon[0]);
     lanes.count = 1;  // the first pass: the strips are not used
     other |= cap_transfer8(lanes, radius, wide, 1, true, e + o) << o;
@@ -386,11 +395,8 @@ void cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e)
 #endif
   const float infinite = std::numeric_limits<float>::infinity();
   for (int half = 0; half < 2; ++half) {
-    CapLanes lanes;
     const int o = 8 * half;
-    std::copy_n(in.dx + o, 8, lanes.dx), std::copy_n(in.dy + o, 8, lanes.dy);
-    std::copy_n(in.dz + o, 8, lanes.dz), std::copy_n(in.nx + o, 8, lanes.nx);
-    std::copy_n(in.ny + o, 8, lanes.ny), std::copy_n(in.nz + o, 8, lanes.nz);
+    CapLanes lanes = receivers_of(in, o);
     for (int k = 0; k < kMaxCapHorizons; ++k) std::copy_n(in.horizon[k] + o, 8, lanes.horizon[k]);
     lanes.count = in.count;
     cap_transfer8(lanes, radius, infinite, strips, false, e + o);

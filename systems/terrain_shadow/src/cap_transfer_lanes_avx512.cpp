@@ -31,6 +31,56 @@ namespace {
   return _mm512_maskz_min_ps(kAll, a, b);
 }
 
+// make_light_cap on sixteen lanes (cap_lanes8's first lines): the receivers' vectors to the
+// centre and normals, loaded, and their caps.
+struct Cap16 {
+  __m512 dx, dy, dz, nx, ny, nz;
+  __m512 rho, nc, plane, cos_e, sin_e, cos_half;
+  __m512 bottom, top;        // the cap's lowest and highest elevation (sines)
+  __mmask16 outside, front;  // |d| > radius; n.d > -radius
+  __mmask16 lit;             // outside, in front and n.c > -rho
+};
+template <class Lanes>
+[[gnu::always_inline]] inline void load_cap16(const Lanes& in, float radius, Cap16& c) {
+  c.dx = _mm512_loadu_ps(in.dx), c.dy = _mm512_loadu_ps(in.dy), c.dz = _mm512_loadu_ps(in.dz);
+  c.nx = _mm512_loadu_ps(in.nx), c.ny = _mm512_loadu_ps(in.ny), c.nz = _mm512_loadu_ps(in.nz);
+  const __m512 r = _mm512_set1_ps(radius), one = _mm512_set1_ps(1.0f);
+  const __m512 zero = _mm512_setzero_ps();
+  const __m512 plane2 = _mm512_fmadd_ps(c.dy, c.dy, _mm512_mul_ps(c.dx, c.dx));
+  const __m512 dist = sqrt16(_mm512_fmadd_ps(c.dz, c.dz, plane2));
+  c.outside = _mm512_cmp_ps_mask(dist, r, _CMP_GT_OQ);
+  const __m512 inv = _mm512_div_ps(one, dist);
+  const __m512 nd =
+      _mm512_fmadd_ps(c.nz, c.dz, _mm512_fmadd_ps(c.ny, c.dy, _mm512_mul_ps(c.nx, c.dx)));
+  c.front = _mm512_cmp_ps_mask(nd, _mm512_sub_ps(zero, r), _CMP_GT_OQ);
+  c.rho = _mm512_mul_ps(r, inv), c.nc = _mm512_mul_ps(nd, inv);
+  c.plane = sqrt16(plane2);
+  c.cos_e = _mm512_mul_ps(c.plane, inv), c.sin_e = _mm512_mul_ps(c.dz, inv);
+  c.cos_half =
+      _mm512_mul_ps(sqrt16(_mm512_mul_ps(_mm512_sub_ps(dist, r), _mm512_add_ps(dist, r))), inv);
+  const __mmask16 pole = _mm512_cmp_ps_mask(c.rho, c.cos_e, _CMP_GT_OQ);
+  c.bottom = _mm512_mask_blend_ps(
+      pole & _mm512_cmp_ps_mask(c.sin_e, zero, _CMP_LT_OQ),
+      _mm512_fmsub_ps(c.sin_e, c.cos_half, _mm512_mul_ps(c.cos_e, c.rho)), _mm512_set1_ps(-1.0f));
+  c.top = _mm512_mask_blend_ps(pole & _mm512_cmp_ps_mask(c.sin_e, zero, _CMP_GT_OQ),
+                               _mm512_fmadd_ps(c.sin_e, c.cos_half, _mm512_mul_ps(c.cos_e, c.rho)),
+                               one);
+  c.lit = c.outside & c.front & _mm512_cmp_ps_mask(c.nc, _mm512_sub_ps(zero, c.rho), _CMP_GT_OQ);
+}
+
+// The cap's frame (cap_transfer): side = (-pd.y, pd.x, 0), up = (-sin_e pd, cos_e); the normal's
+// components ns (side), nw (pd) and nu (up).
+[[gnu::always_inline]] inline void cap_frame16(const Cap16& c, __m512& ns, __m512& nw, __m512& nu) {
+  const __m512 one = _mm512_set1_ps(1.0f);
+  const __mmask16 has_plane = _mm512_cmp_ps_mask(c.plane, _mm512_setzero_ps(), _CMP_GT_OQ);
+  const __m512 inv_plane = _mm512_div_ps(one, max16(c.plane, _mm512_set1_ps(1e-30f)));
+  const __m512 pdx = _mm512_mask_blend_ps(has_plane, one, _mm512_mul_ps(c.dx, inv_plane));
+  const __m512 pdy = _mm512_maskz_mov_ps(has_plane, _mm512_mul_ps(c.dy, inv_plane));
+  ns = _mm512_fmsub_ps(c.ny, pdx, _mm512_mul_ps(c.nx, pdy));
+  nw = _mm512_fmadd_ps(c.ny, pdy, _mm512_mul_ps(c.nx, pdx));
+  nu = _mm512_fmsub_ps(c.nz, c.cos_e, _mm512_mul_ps(c.sin_e, nw));
+}
+
 // front_lens8 (cap_chords.h's lens) on 16 lanes.
 [[gnu::always_inline]] inline __m512 front_lens16(__m512 rho, __m512 cos_half, __m512 nc, __m512 nz,
                                                   __m512 nw, __m512 nu, __m512 sin_e, __m512 cos_e,
@@ -139,24 +189,11 @@ namespace {
 
 bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e) {
   const int count = std::clamp(in.count, 1, kMaxCapHorizons);
-  const __m512 dx = _mm512_loadu_ps(in.dx), dy = _mm512_loadu_ps(in.dy),
-               dz = _mm512_loadu_ps(in.dz);
-  const __m512 nx = _mm512_loadu_ps(in.nx), ny = _mm512_loadu_ps(in.ny),
-               nz = _mm512_loadu_ps(in.nz);
-  const __m512 r = _mm512_set1_ps(radius), one = _mm512_set1_ps(1.0f);
   const __m512 zero = _mm512_setzero_ps();
-  // make_light_cap in lanes.
-  const __m512 plane2 = _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx));
-  const __m512 dist = sqrt16(_mm512_fmadd_ps(dz, dz, plane2));
-  const __mmask16 outside = _mm512_cmp_ps_mask(dist, r, _CMP_GT_OQ);
-  const __m512 inv = _mm512_div_ps(one, dist);
-  const __m512 nd = _mm512_fmadd_ps(nz, dz, _mm512_fmadd_ps(ny, dy, _mm512_mul_ps(nx, dx)));
-  const __mmask16 front = _mm512_cmp_ps_mask(nd, _mm512_sub_ps(zero, r), _CMP_GT_OQ);
-  const __m512 rho = _mm512_mul_ps(r, inv), nc = _mm512_mul_ps(nd, inv);
-  const __m512 plane = sqrt16(plane2);
-  const __m512 cos_e = _mm512_mul_ps(plane, inv), sin_e = _mm512_mul_ps(dz, inv);
-  const __m512 cos_half =
-      _mm512_mul_ps(sqrt16(_mm512_mul_ps(_mm512_sub_ps(dist, r), _mm512_add_ps(dist, r))), inv);
+  Cap16 cap;
+  load_cap16(in, radius, cap);
+  const __m512 &rho = cap.rho, &nc = cap.nc, &cos_e = cap.cos_e, &sin_e = cap.sin_e;
+  const __m512& cos_half = cap.cos_half;
   // Sines of the horizon samples, their lowest and highest.
   const __m512 half_pi = _mm512_set1_ps(kHalfPi);
   __m512 sh[kMaxCapHorizons] = {};
@@ -165,17 +202,8 @@ bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e)
         min16(max16(_mm512_loadu_ps(in.horizon[k]), _mm512_sub_ps(zero, half_pi)), half_pi));
   __m512 lowest = sh[0], highest = sh[0];
   for (int k = 1; k < count; ++k) lowest = min16(lowest, sh[k]), highest = max16(highest, sh[k]);
-  const __mmask16 pole = _mm512_cmp_ps_mask(rho, cos_e, _CMP_GT_OQ);
-  const __m512 bottom = _mm512_mask_blend_ps(
-      pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_LT_OQ),
-      _mm512_fmsub_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), _mm512_set1_ps(-1.0f));
-  const __m512 top =
-      _mm512_mask_blend_ps(pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_GT_OQ),
-                           _mm512_fmadd_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), one);
-  const __mmask16 lit =
-      outside & front & _mm512_cmp_ps_mask(nc, _mm512_sub_ps(zero, rho), _CMP_GT_OQ);
-  const __mmask16 visible = lit & _mm512_cmp_ps_mask(lowest, top, _CMP_LT_OQ);
-  const __mmask16 open = _mm512_cmp_ps_mask(highest, bottom, _CMP_LE_OQ);
+  const __mmask16 visible = cap.lit & _mm512_cmp_ps_mask(lowest, cap.top, _CMP_LT_OQ);
+  const __mmask16 open = _mm512_cmp_ps_mask(highest, cap.bottom, _CMP_LE_OQ);
   const __mmask16 in_front = _mm512_cmp_ps_mask(nc, rho, _CMP_GE_OQ);
   // No cap is wide (`wide` infinite) and nothing is deferred: the caps the tangent plane cuts
   // take general chords; those in front of it the horizon cuts, the lens (one sample).
@@ -186,19 +214,13 @@ bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e)
   __m512 value = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(kPi), _mm512_mul_ps(rho, rho)), nc);
   const __mmask16 any_chords = chords | cut;
   if (any_chords != 0) {
-    // The cap's frame (cap_transfer): side = (-pd.y, pd.x, 0), up = (-sin_e pd, cos_e).
-    const __mmask16 has_plane = _mm512_cmp_ps_mask(plane, zero, _CMP_GT_OQ);
-    const __m512 inv_plane = _mm512_div_ps(one, max16(plane, _mm512_set1_ps(1e-30f)));
-    const __m512 pdx = _mm512_mask_blend_ps(has_plane, one, _mm512_mul_ps(dx, inv_plane));
-    const __m512 pdy = _mm512_maskz_mov_ps(has_plane, _mm512_mul_ps(dy, inv_plane));
-    const __m512 ns = _mm512_fmsub_ps(ny, pdx, _mm512_mul_ps(nx, pdy));
-    const __m512 nw = _mm512_fmadd_ps(ny, pdy, _mm512_mul_ps(nx, pdx));
-    const __m512 nu = _mm512_fmsub_ps(nz, cos_e, _mm512_mul_ps(sin_e, nw));
+    __m512 ns, nw, nu;
+    cap_frame16(cap, ns, nw, nu);
     __m512 lens_value = zero;
     if (lens && chords != 0) {
       const __m512 omega =
           min16(max16(_mm512_loadu_ps(in.horizon[0]), _mm512_sub_ps(zero, half_pi)), half_pi);
-      lens_value = front_lens16(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega, sh[0]);
+      lens_value = front_lens16(rho, cos_half, nc, cap.nz, nw, nu, sin_e, cos_e, omega, sh[0]);
     }
     __m512 sum = zero;
     if (cut != 0) {
@@ -232,43 +254,21 @@ bool cap_chords16(const CapChordLanes16& in, float radius, int strips, float* e)
 }
 
 unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float* e) {
-  const __m512 dx = _mm512_loadu_ps(in.dx), dy = _mm512_loadu_ps(in.dy),
-               dz = _mm512_loadu_ps(in.dz);
-  const __m512 nx = _mm512_loadu_ps(in.nx), ny = _mm512_loadu_ps(in.ny),
-               nz = _mm512_loadu_ps(in.nz);
-  const __m512 r = _mm512_set1_ps(radius), one = _mm512_set1_ps(1.0f);
   const __m512 zero = _mm512_setzero_ps();
-  // make_light_cap in lanes.
-  const __m512 plane2 = _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx));
-  const __m512 dist = sqrt16(_mm512_fmadd_ps(dz, dz, plane2));
-  const __mmask16 outside = _mm512_cmp_ps_mask(dist, r, _CMP_GT_OQ);
-  const __m512 inv = _mm512_div_ps(one, dist);
-  const __m512 nd = _mm512_fmadd_ps(nz, dz, _mm512_fmadd_ps(ny, dy, _mm512_mul_ps(nx, dx)));
-  const __mmask16 front = _mm512_cmp_ps_mask(nd, _mm512_sub_ps(zero, r), _CMP_GT_OQ);
-  const __m512 rho = _mm512_mul_ps(r, inv), nc = _mm512_mul_ps(nd, inv);
-  const __m512 plane = sqrt16(plane2);
-  const __m512 cos_e = _mm512_mul_ps(plane, inv), sin_e = _mm512_mul_ps(dz, inv);
-  const __m512 cos_half =
-      _mm512_mul_ps(sqrt16(_mm512_mul_ps(_mm512_sub_ps(dist, r), _mm512_add_ps(dist, r))), inv);
-  // The horizon's sine; the cap's lowest and highest elevation (sines).
+  Cap16 cap;
+  load_cap16(in, radius, cap);
+  const __m512 &rho = cap.rho, &nc = cap.nc, &cos_e = cap.cos_e, &sin_e = cap.sin_e;
+  const __m512& cos_half = cap.cos_half;
+  // The horizon's sine.
   const __m512 half_pi = _mm512_set1_ps(kHalfPi);
   const __m512 omega =
       min16(max16(_mm512_loadu_ps(in.horizon), _mm512_sub_ps(zero, half_pi)), half_pi);
   const __m512 sin_o = fast_sin16(omega);
-  const __mmask16 pole = _mm512_cmp_ps_mask(rho, cos_e, _CMP_GT_OQ);
-  const __m512 bottom = _mm512_mask_blend_ps(
-      pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_LT_OQ),
-      _mm512_fmsub_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), _mm512_set1_ps(-1.0f));
-  const __m512 top =
-      _mm512_mask_blend_ps(pole & _mm512_cmp_ps_mask(sin_e, zero, _CMP_GT_OQ),
-                           _mm512_fmadd_ps(sin_e, cos_half, _mm512_mul_ps(cos_e, rho)), one);
-  const __mmask16 lit =
-      outside & front & _mm512_cmp_ps_mask(nc, _mm512_sub_ps(zero, rho), _CMP_GT_OQ);
-  const __mmask16 visible = lit & _mm512_cmp_ps_mask(sin_o, top, _CMP_LT_OQ);
-  const __mmask16 open = _mm512_cmp_ps_mask(sin_o, bottom, _CMP_LE_OQ);
+  const __mmask16 visible = cap.lit & _mm512_cmp_ps_mask(sin_o, cap.top, _CMP_LT_OQ);
+  const __mmask16 open = _mm512_cmp_ps_mask(sin_o, cap.bottom, _CMP_LE_OQ);
   const __mmask16 in_front = _mm512_cmp_ps_mask(nc, rho, _CMP_GE_OQ);
   const __mmask16 is_wide =
-      outside & front & _mm512_cmp_ps_mask(rho, _mm512_set1_ps(wide), _CMP_GE_OQ);
+      cap.outside & cap.front & _mm512_cmp_ps_mask(rho, _mm512_set1_ps(wide), _CMP_GE_OQ);
   // Handed back: wide caps and caps the tangent plane cuts. The others in front of the plane
   // that the horizon cuts take the lens.
   const __mmask16 cut = ~is_wide & ~in_front & visible;
@@ -276,15 +276,10 @@ unsigned cap_first_pass16(const CapLanes16& in, float radius, float wide, float*
   const __mmask16 other = is_wide | cut;
   __m512 value = _mm512_mul_ps(_mm512_mul_ps(_mm512_set1_ps(kPi), _mm512_mul_ps(rho, rho)), nc);
   if (lens) {
-    // The cap's frame (cap_transfer): side = (-pd.y, pd.x, 0), up = (-sin_e pd, cos_e).
-    const __mmask16 has_plane = _mm512_cmp_ps_mask(plane, zero, _CMP_GT_OQ);
-    const __m512 inv_plane = _mm512_div_ps(one, max16(plane, _mm512_set1_ps(1e-30f)));
-    const __m512 pdx = _mm512_mask_blend_ps(has_plane, one, _mm512_mul_ps(dx, inv_plane));
-    const __m512 pdy = _mm512_maskz_mov_ps(has_plane, _mm512_mul_ps(dy, inv_plane));
-    const __m512 nw = _mm512_fmadd_ps(ny, pdy, _mm512_mul_ps(nx, pdx));
-    const __m512 nu = _mm512_fmsub_ps(nz, cos_e, _mm512_mul_ps(sin_e, nw));
+    __m512 ns, nw, nu;
+    cap_frame16(cap, ns, nw, nu);
     value = _mm512_mask_blend_ps(
-        lens, value, front_lens16(rho, cos_half, nc, nz, nw, nu, sin_e, cos_e, omega, sin_o));
+        lens, value, front_lens16(rho, cos_half, nc, cap.nz, nw, nu, sin_e, cos_e, omega, sin_o));
   }
   _mm512_storeu_ps(e, _mm512_maskz_mov_ps(~other & visible, value));
   return other;
