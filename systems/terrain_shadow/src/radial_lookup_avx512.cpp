@@ -6,6 +6,8 @@
 
 #include <cmath>
 
+#include "fast_math.h"  // before the AVX-512 region: its inline functions stay baseline code
+
 #ifdef __AVX2__
 #include "avx512_target_begin.h"  // to avx512_target_end.h below
 

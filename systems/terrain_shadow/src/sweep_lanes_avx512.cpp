@@ -2,7 +2,7 @@
 // and floats, in namespace detail::avx512; sweep_lanes.cpp chooses between the copies at run
 // time (sweep_isa()). The target pragma covers the intrinsics and the always-inlined 8-lane
 // helpers (so that blends and compares become mask-register operations) and the kernels; the
-// headers with out-of-line inline functions (std::, sweep_geometry.h) come first, compiled for
+// headers with out-of-line inline functions (std::, TBB, sweep_geometry.h) come first, compiled for
 // the baseline, so that every copy the linker may keep runs on any x86-64-v3 CPU.
 #include <algorithm>
 #include <atomic>
@@ -13,6 +13,8 @@
 #include <limits>
 #include <optional>
 #include <vector>
+
+#include <tbb/parallel_for.h>
 
 #include "sweep_geometry.h"
 #include "sweep_lanes.h"
