@@ -347,6 +347,11 @@ struct Sweep {
   void run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& sc,
                  GroupHull* keep = nullptr) const;
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
+  // run_group's samples pass on AVX-512 (steps [s_begin, steps) of group cg from column
+  // u_start): each step's first minor index and offset for eight steps at a time in doubles,
+  // its mask from two shifts, then per step only the heights; the same values as the scalar
+  // pass.
+  void samples16(int cg, int s_begin, int steps, int u_start, LaneScratch& sc) const;
   // run_group's walk over the group's samples (steps [s_begin, steps)) with the sixteen lanes
   // in one 512-bit vector: one chain of pop rounds instead of two, lanes chosen by mask
   // registers; the same floats as the two 8-lane vectors. The registers come in and go back
@@ -388,10 +393,6 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   float* link_j = kLinkStride == 2 ? sc.hull_h.data() + 1 : sc.hull_j.data();
   const int u_start = frame.step > 0 ? ub : ua, u_end = frame.step > 0 ? ua : ub;
   const float j_start = static_cast<float>(frame.step * u_start);  // j = j_start - step index
-  const __m256 vscale = _mm256_set1_ps(scale);
-  __m256i lane[G];
-  for (int g = 0; g < G; ++g)
-    lane[g] = _mm256_add_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(8 * g));
 
   // Per vector: hull size per lane, and the top three hull points in registers (a = top - 1,
   // b = top - 2, c = top - 3): a pop needs only a and b, and the gather that refills c after a
@@ -428,11 +429,21 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   // these loads and compares pipeline), then the hull walk over them: its pops are a latency
   // chain, and a short loop body refills faster after the pop loop's exits mispredict.
   if (sc.step_h.size() < static_cast<std::size_t>(steps) * W) {
+    const std::size_t padded = static_cast<std::size_t>(steps) + 8;  // samples16's last eight
     sc.step_h.resize(static_cast<std::size_t>(steps) * W);
-    sc.step_ok.resize(static_cast<std::size_t>(steps) * W);
-    sc.step_b0.resize(static_cast<std::size_t>(steps));
-    sc.step_t.resize(static_cast<std::size_t>(steps));
+    sc.step_ok.resize(padded * W);
+    sc.step_b0.resize(padded);
+    sc.step_t.resize(padded);
   }
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+  samples16(cg, s_begin, steps, u_start, sc);
+  walk16(sc, s_begin, steps, s_take, u_start, j_start, out, link_h, regs,
+         [&](int u) { take_hull(cg, u_start, u, j_start, link_h, link_j, regs, *keep); });
+#else
+  const __m256 vscale = _mm256_set1_ps(scale);
+  __m256i lane[G];
+  for (int g = 0; g < G; ++g)
+    lane[g] = _mm256_add_epi32(_mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7), _mm256_set1_epi32(8 * g));
   for (int s = s_begin; s < steps; ++s) {
     const int u = u_start - s * frame.step;
     const double base = cg + frame.slope * u;  // lane l sits at base + l
@@ -442,24 +453,6 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
     const float t = static_cast<float>(base - b0);
     sc.step_t[s] = t;
     const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
-#ifdef PENUMBRA_SWEEP_LANES_AVX512
-    {  // the same on sixteen lanes
-      const __m512i b =
-          _mm512_add_epi32(_mm512_set1_epi32(b0),
-                           _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15));
-      __mmask16 ok = _mm512_mask_cmpgt_epi32_mask(
-          _mm512_cmpge_epi32_mask(b, _mm512_setzero_si512()), _mm512_set1_epi32(bmax), b);
-      if (t == 0.0f) ok |= _mm512_cmpeq_epi32_mask(b, _mm512_set1_epi32(bmax));
-      const __m512 h0 = _mm512_loadu_ps(col), h1 = _mm512_loadu_ps(col + 1);
-      const std::size_t at = static_cast<std::size_t>(s) * W;
-      _mm512_storeu_ps(
-          sc.step_h.data() + at,
-          _mm512_mul_ps(_mm512_set1_ps(scale),
-                        _mm512_fmadd_ps(_mm512_set1_ps(t), _mm512_sub_ps(h1, h0), h0)));
-      sc.step_ok[s] = ok;  // the walk reads the mask itself (step_ok[s], not [s * W + lane])
-      continue;
-    }
-#endif
     const __m256 vt = _mm256_set1_ps(t);
     for (int g = 0; g < G; ++g) {
       const __m256i b = _mm256_add_epi32(_mm256_set1_epi32(b0), lane[g]);
@@ -474,10 +467,6 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
       _mm256_storeu_si256(reinterpret_cast<__m256i*>(sc.step_ok.data() + at), ok);
     }
   }
-#ifdef PENUMBRA_SWEEP_LANES_AVX512
-  walk16(sc, s_begin, steps, s_take, u_start, j_start, out, link_h, regs,
-         [&](int u) { take_hull(cg, u_start, u, j_start, link_h, link_j, regs, *keep); });
-#else
   const __m256 mps = _mm256_set1_ps(frame.metres_per_step), vj_start = _mm256_set1_ps(j_start);
   const __m256 minus_inf = _mm256_set1_ps(-std::numeric_limits<float>::infinity());
   for (int s = s_begin, u = u_start - s_begin * frame.step; s < steps; ++s, u -= frame.step) {
@@ -582,6 +571,53 @@ void Sweep::run_group(int cg, int u_stop, const Accumulator& out, LaneScratch& s
   const float angle15 =
       _mm512_cvtss_f32(_mm512_maskz_permutexvar_ps(kAll, _mm512_set1_epi32(15), angle));
   a[16] = std::fma((valid >> 15) ? t : 0.0f, angle15, a[16]) + 0.0f;
+}
+
+void Sweep::samples16(int cg, int s_begin, int steps, int u_start, LaneScratch& sc) const {
+  constexpr int W = kGroupLines;
+  std::int32_t* const step_b0 = sc.step_b0.data();
+  std::int32_t* const step_ok = sc.step_ok.data();
+  float* const step_t = sc.step_t.data();
+  float* const step_h = sc.step_h.data();
+  const int step = frame.step, last = bmax;
+  // Eight steps a vector: base = cg + slope u (one multiply-add, as the scalar pass compiles),
+  // b0 = floor(base), t = base - b0; inside the field are the lanes l with 0 <= b0 + l < bmax,
+  // and b0 + l = bmax where t = 0 (as AzimuthFrame::height_at): lanes [lo, hi) of the mask.
+  const __m256i eight = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m512d slope = _mm512_set1_pd(frame.slope), c = _mm512_set1_pd(cg);
+  const __m256i zero = _mm256_setzero_si256(), sixteen = _mm256_set1_epi32(W);
+  const __m256i one = _mm256_set1_epi32(1), vlast = _mm256_set1_epi32(last);
+  const __mmask8 k8 = 0xff;  // maskz forms: GCC 12 warns on the unmasked ones' undefined source
+  for (int s = s_begin; s < steps; s += 8) {
+    const __m256i u = _mm256_sub_epi32(_mm256_set1_epi32(u_start - s * step),
+                                       _mm256_mullo_epi32(eight, _mm256_set1_epi32(step)));
+    const __m512d base = _mm512_fmadd_pd(_mm512_maskz_cvtepi32_pd(k8, u), slope, c);
+    const __m512d down =
+        _mm512_maskz_roundscale_pd(k8, base, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __m256i b0 = _mm512_maskz_cvttpd_epi32(k8, down);
+    const __m256 t = _mm512_maskz_cvtpd_ps(k8, _mm512_sub_pd(base, down));
+    const __m256i on_last =
+        _mm256_maskz_mov_epi32(_mm256_cmp_ps_mask(t, _mm256_setzero_ps(), _CMP_EQ_OQ), one);
+    const __m256i lo =
+        _mm256_min_epi32(_mm256_max_epi32(_mm256_sub_epi32(zero, b0), zero), sixteen);
+    const __m256i hi = _mm256_min_epi32(
+        _mm256_max_epi32(_mm256_add_epi32(_mm256_sub_epi32(vlast, b0), on_last), zero), sixteen);
+    const __m256i mask = _mm256_max_epi32(
+        _mm256_sub_epi32(_mm256_sllv_epi32(one, hi), _mm256_sllv_epi32(one, lo)), zero);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(step_b0 + s), b0);
+    _mm256_storeu_ps(step_t + s, t);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(step_ok + s), mask);
+  }
+  const __m512 scale16 = _mm512_set1_ps(scale);
+  for (int s = s_begin, u = u_start - s_begin * step; s < steps; ++s, u -= step) {
+    const int b0 = step_b0[s];
+    if (b0 + W - 1 < 0 || b0 > last) continue;  // no lane inside the field
+    const float* col = heights + static_cast<std::ptrdiff_t>(u) * stride + kPad + b0;
+    const __m512 h0 = _mm512_loadu_ps(col), h1 = _mm512_loadu_ps(col + 1);
+    _mm512_storeu_ps(step_h + static_cast<std::size_t>(s) * W,
+                     _mm512_mul_ps(scale16, _mm512_fmadd_ps(_mm512_set1_ps(step_t[s]),
+                                                            _mm512_sub_ps(h1, h0), h0)));
+  }
 }
 
 template <class Take>

@@ -69,14 +69,15 @@ struct EditBand {
 };
 
 struct LaneScratch {
-  std::vector<float> acc;             // (major, minor + padding) layout
-  int acc_row = 0;                    // > 0: acc's texels are zeros, rows of acc_row floats
-  std::vector<float> t_of_u;          // per major coordinate: the lines' offset t
-  std::vector<float> hull_h, hull_j;  // [step * kGroupLines + lane]: the hull's links
-  // A group's samples, [step * kGroupLines + lane]: heights and inside-the-field masks (the
-  // AVX-512 copy: one 16-bit mask per step, at [step]); per step the lanes' first minor index
-  // and offset.
-  std::vector<float> step_h;
+  std::vector<float> acc;     // (major, minor + padding) layout
+  int acc_row = 0;            // > 0: acc's texels are zeros, rows of acc_row floats
+  std::vector<float> t_of_u;  // per major coordinate: the lines' offset t
+  // The hull's links, [step * kGroupLines + lane], and a group's samples: heights and
+  // inside-the-field masks (the AVX-512 copy: one 16-bit mask per step, at [step]); per step
+  // the lanes' first minor index and offset. The links and heights on cache lines, so that the
+  // walk's 64-byte loads and stores of a step's sixteen lanes never split one.
+  std::vector<float, CacheLineAllocator<float>> hull_h, hull_j;
+  std::vector<float, CacheLineAllocator<float>> step_h;
   std::vector<std::int32_t> step_ok, step_b0;
   std::vector<float> step_t;
   std::vector<unsigned char> unit;  // the planes pass: per 8 columns, weights that round to 1
