@@ -163,7 +163,7 @@ void prepare_output(const data::HeightField& f, const HorizonParams& p, HorizonG
 // Per thread: one task's planes and kernel scratch; and the field's padded copies.
 struct SweepWorkspace::Buffers {
   struct Task {
-    std::vector<float> planes;
+    std::vector<float, CacheLineAllocator<float>> planes;
     Scratch scalar;
 #ifdef __AVX2__
     detail::LaneScratch lanes;
@@ -238,7 +238,7 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   const int blocks = (params.azimuths + block_size - 1) / block_size;
   tbb::parallel_for(0, blocks, [&](int block) {
     const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
-    std::vector<float>& block_planes = ws.tasks.local().planes;
+    auto& block_planes = ws.tasks.local().planes;
     block_planes.resize(static_cast<std::size_t>(k1 - k0) * region.count());
     float* const planes = block_planes.data();
     tbb::this_task_arena::isolate([&] {

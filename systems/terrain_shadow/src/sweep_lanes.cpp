@@ -30,8 +30,10 @@
 namespace penumbra::terrain_shadow::detail {
 namespace {
 
-constexpr int kPad = kGroupLines;          // zero samples either side of a padded column
-constexpr int kAccPad = kGroupLines + 8;   // accumulator slots either side of the minor range
+constexpr int kPad = kGroupLines;  // zero samples either side of a padded column
+// Accumulator slots either side of the minor range (at least kGroupLines + 8; 32, so that a row
+// of 16n texels starts on a cache line, as acc does).
+constexpr int kAccPad = 2 * kGroupLines;
 constexpr int kVectors = kGroupLines / 8;  // AVX2 vectors per group
 constexpr int kGroupShift = 4;             // kGroupLines == 1 << kGroupShift
 static_assert(kGroupLines == 1 << kGroupShift);
@@ -789,8 +791,18 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
       const bool first = v0 == 0, last = v1 - 1 == bmax;
       const float first_value = first ? value(u, 0) : 0.0f;
       const float last_value = last ? value(u, nv - 1) : 0.0f;
-      std::copy_n(a, nv, dst);
-      std::fill_n(a, nv, 0.0f);
+      int v = 0;  // copied and zeroed in one pass
+#ifdef PENUMBRA_SWEEP_LANES_AVX512
+      for (; v + 16 <= nv; v += 16) {
+        _mm512_storeu_ps(dst + v, _mm512_loadu_ps(a + v));
+        _mm512_storeu_ps(a + v, _mm512_setzero_ps());
+      }
+#endif
+      for (; v + 8 <= nv; v += 8) {
+        _mm256_storeu_ps(dst + v, _mm256_loadu_ps(a + v));
+        _mm256_storeu_ps(a + v, _mm256_setzero_ps());
+      }
+      for (; v < nv; ++v) dst[v] = a[v], a[v] = 0.0f;
       if (first) dst[0] = first_value;
       if (last) dst[nv - 1] = last_value;
     }

@@ -69,7 +69,7 @@ struct EditBand {
 };
 
 struct LaneScratch {
-  std::vector<float> acc;     // (major, minor + padding) layout
+  std::vector<float, CacheLineAllocator<float>> acc;  // (major, minor + padding) layout
   int acc_row = 0;            // > 0: acc's texels are zeros, rows of acc_row floats
   std::vector<float> t_of_u;  // per major coordinate: the lines' offset t
   // The hull's links, [step * kGroupLines + lane], and a group's samples: heights and
