@@ -696,6 +696,21 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       // Lanes whose c is now stale with a point below b: c from b's link.
       const __mmask16 refill = pop & low;
       if (refill == 0) continue;
+      // Up to eight refilling lanes (nearly every refill: one lane in 40%, two in 22%), their
+      // links' indices packed into the low lanes: one 8-element gather instead of two (a gather
+      // costs the same with any mask, about 2.4 ns of this CPU's throughput), the pairs
+      // expanded back into the refilling lanes.
+      const int n_refill = __builtin_popcount(refill);
+      if (n_refill <= 8) {
+        const __m512i packed = _mm512_maskz_compress_epi32(refill, i3);
+        const __m512 g = _mm512_castsi512_ps(_mm512_mask_i32gather_epi64(
+            zero_i, static_cast<__mmask8>(_bzhi_u32(0xff, static_cast<unsigned>(n_refill))),
+            _mm512_maskz_extracti32x8_epi32(0xff, packed, 0), links, 8));
+        c_h = _mm512_mask_expand_ps(c_h, refill, _mm512_maskz_permutexvar_ps(kAll, evens, g));
+        c_j = _mm512_mask_expand_ps(c_j, refill, _mm512_maskz_permutexvar_ps(kAll, odds, g));
+        depth = _mm512_mask_mov_epi32(depth, refill, three);
+        continue;
+      }
       // Each link's (height, j) pair as one 64-bit element, lanes 0-7 then 8-15.
       const __m512 lo = _mm512_castsi512_ps(
           _mm512_mask_i32gather_epi64(zero_i, static_cast<__mmask8>(refill),
