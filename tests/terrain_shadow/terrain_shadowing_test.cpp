@@ -33,12 +33,20 @@ sh::CoeffsRgb<4> constant_sky(float radiance) {
   return l;
 }
 
-TEST(TerrainShadowing, EditUpdateEqualsAFullUpdate) {
-  TerrainShadowConfig config;
-  config.azimuths = 16;
-  TerrainShadowing<4> edited(config), fresh(config);
-  auto field = mountains(48);
-  edited.update(field, 1.0f);
+// Two 16-azimuth systems on a 48^2 field: `edited` takes edits, `fresh` full updates of the
+// same fields, to compare with.
+struct EditAgainstFullUpdate : ::testing::Test {
+  static TerrainShadowConfig sixteen_azimuths() {
+    TerrainShadowConfig config;
+    config.azimuths = 16;
+    return config;
+  }
+  TerrainShadowing<4> edited{sixteen_azimuths()}, fresh{sixteen_azimuths()};
+  std::shared_ptr<const data::HeightField> field = mountains(48);
+  void SetUp() override { edited.update(field, 1.0f); }
+};
+
+TEST_F(EditAgainstFullUpdate, EditUpdateEqualsAFullUpdate) {
   for (BrushKind kind : {BrushKind::kCrater, BrushKind::kRaise, BrushKind::kSmooth}) {
     Brush b;
     b.kind = kind;
@@ -70,12 +78,7 @@ TEST(TerrainShadowing, EditUpdateEqualsAFullUpdate) {
 
 // An edit whose field has a non-finite height throws, naming the sample, and leaves the shading
 // as it was: the next good edit still equals a full update, bit for bit.
-TEST(TerrainShadowing, ANonFiniteEditThrowsAndChangesNothing) {
-  TerrainShadowConfig config;
-  config.azimuths = 16;
-  TerrainShadowing<4> edited(config), fresh(config);
-  auto field = mountains(48);
-  edited.update(field, 1.0f);
+TEST_F(EditAgainstFullUpdate, ANonFiniteEditThrowsAndChangesNothing) {
   const auto horizons = edited.horizons().angles;
   const auto transfer = edited.transfer();
   Brush b;
