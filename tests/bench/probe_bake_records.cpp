@@ -146,7 +146,7 @@ ChartSpec sweep_spec(std::string title, std::string x_label) {
   spec.legend_title = "placement";
   spec.best_note = "ringed: the room's default (grid 1 m)";
   spec.notes = {"labels: start spacing[/spawn", "threshold], probes"};
-  spec.ringed.push_back(kDefaultKey);
+  spec.ringed.emplace_back(kDefaultKey);  // not push_back(string): gcc 12 + PCH warn
   return spec;
 }
 }  // namespace

@@ -20,8 +20,8 @@ namespace {
 
 TEST(ValleyGolden, TheRecordedSessionAtFixedFrames) {
   TerrainDemoConfig demo;
-  demo.probes.cache_dir = std::string(PENUMBRA_TEST_OUTPUT_DIR) + "/valley_probes";
-  demo.boulders.cache_dir = std::string(PENUMBRA_TEST_OUTPUT_DIR) + "/valley_spheres";
+  demo.probes.cache_dir = PENUMBRA_TEST_OUTPUT_DIR "/valley_probes";
+  demo.boulders.cache_dir = PENUMBRA_TEST_OUTPUT_DIR "/valley_spheres";
   test::ValleyReplay replay(2, demo);
   ecs::World& world = replay.world;
 

@@ -20,7 +20,7 @@ struct ValleyReplay {
     populate_terrain_demo(world, demo);
     populate_valley(world);
     world.emplace_resource<InputPlayback>(InputPlayback{
-        load_input_recording(std::string(PENUMBRA_SOURCE_DIR) + "/game/sessions/dusk_run.pinput"),
+        load_input_recording(PENUMBRA_SOURCE_DIR "/game/sessions/dusk_run.pinput"),
         0});
     add_terrain_demo_systems(schedule, demo);
   }

@@ -59,7 +59,9 @@ inline bool update_golden() {
 }
 
 inline void expect_matches_golden(const ImageRgba8& image, const std::string& name) {
-  const std::string golden = std::string(PENUMBRA_GOLDEN_DIR) + "/" + name + ".png";
+  // Appended: string(...) + "/" + ... makes gcc 12 warn in libstdc++ (tests/CMakeLists.txt, PCH).
+  std::string golden = PENUMBRA_GOLDEN_DIR "/";
+  golden += name + ".png";
   const std::string actual = output_dir() + "/" + name + ".png";
   write_png(actual, image);
   if (update_golden()) {
