@@ -20,8 +20,7 @@ struct ValleyReplay {
     populate_terrain_demo(world, demo);
     populate_valley(world);
     world.emplace_resource<InputPlayback>(InputPlayback{
-        load_input_recording(PENUMBRA_SOURCE_DIR "/game/sessions/dusk_run.pinput"),
-        0});
+        load_input_recording(PENUMBRA_SOURCE_DIR "/game/sessions/dusk_run.pinput"), 0});
     add_terrain_demo_systems(schedule, demo);
   }
   InputPlayback& playback() { return world.resource<InputPlayback>(); }
