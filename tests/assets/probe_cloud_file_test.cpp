@@ -45,22 +45,9 @@ void expect_same(const data::ProbeCloud& a, const data::ProbeCloud& b) {
   }
 }
 
-std::string as_string(const std::vector<unsigned char>& b) {
-  return std::string(b.begin(), b.end());
-}
-
-// Recomputes the checksum after an edit, so that only the edited field is wrong.
-std::vector<unsigned char> reseal(std::vector<unsigned char> b) {
-  const std::uint64_t h = fnv1a64(std::span<const unsigned char>(b).first(b.size() - 8));
-  for (int i = 0; i < 8; ++i)
-    b[b.size() - 8 + static_cast<std::size_t>(i)] = static_cast<unsigned char>(h >> (8 * i));
-  return b;
-}
-
-void put_u32(std::vector<unsigned char>& b, std::size_t at, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i)
-    b[at + static_cast<std::size_t>(i)] = static_cast<unsigned char>(v >> (8 * i));
-}
+using test::as_string;
+using test::put_u32;
+using test::reseal;
 void put_f32(std::vector<unsigned char>& b, std::size_t at, float v) {
   put_u32(b, at, std::bit_cast<std::uint32_t>(v));
 }

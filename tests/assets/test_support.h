@@ -3,13 +3,16 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "penumbra/assets/checksum.h"
 #include "penumbra/assets/load_error.h"
 
 namespace penumbra::assets::test {
@@ -63,6 +66,25 @@ void expect_load_error(F&& f, const std::string& file, const std::string& reason
     EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
   }
+}
+
+// Bytes of a file written by our formats, as a string (for text searches in error tests).
+inline std::string as_string(const std::vector<unsigned char>& b) {
+  return std::string(b.begin(), b.end());
+}
+
+// Recomputes the trailing FNV-1a checksum after an edit, so that only the edited field is wrong.
+inline std::vector<unsigned char> reseal(std::vector<unsigned char> b) {
+  const std::uint64_t h = fnv1a64(std::span<const unsigned char>(b).first(b.size() - 8));
+  for (int i = 0; i < 8; ++i)
+    b[b.size() - 8 + static_cast<std::size_t>(i)] = static_cast<unsigned char>(h >> (8 * i));
+  return b;
+}
+
+// Little-endian v at byte `at`.
+inline void put_u32(std::vector<unsigned char>& b, std::size_t at, std::uint32_t v) {
+  for (int i = 0; i < 4; ++i)
+    b[at + static_cast<std::size_t>(i)] = static_cast<unsigned char>(v >> (8 * i));
 }
 
 }  // namespace penumbra::assets::test

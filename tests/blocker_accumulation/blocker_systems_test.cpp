@@ -192,7 +192,9 @@ TEST(BlockerSystems, ReportsTheReceiversItSkipsPerFrame) {
     s.world.create_with(Receiver{r.points, r.normals}, Transform{}, ReceiverLighting{});
   }
   s.world.resource<BlockerSettingsResource>().receiver_budget = 1;
-  auto shade = [&] { return test::system_timing(s.executor.last_frame(), "blockers.shade"); };
+  auto shade = [&] {
+    return penumbra::test::system_timing(s.executor.last_frame(), "blockers.shade");
+  };
   s.executor.run(s.schedule, s.world);
   EXPECT_TRUE(shade().reported);
   EXPECT_EQ(shade().done, 3u) << "new receivers are shaded at once";
@@ -202,7 +204,7 @@ TEST(BlockerSystems, ReportsTheReceiversItSkipsPerFrame) {
     EXPECT_EQ(shade().done, 1u);
     EXPECT_EQ(shade().skipped, 2u);
   }
-  EXPECT_FALSE(test::system_timing(s.executor.last_frame(), "blockers.gather").reported);
+  EXPECT_FALSE(penumbra::test::system_timing(s.executor.last_frame(), "blockers.gather").reported);
 }
 
 TEST(BlockerSystems, NonFiniteInputIsNamedAndLeftOut) {

@@ -10,11 +10,10 @@
 #include "common/stability.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/rotation.h"
+#include "test_skies.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
-
-constexpr int N = 4;
 
 // The cap's band-limited visibility 1 - cap about +z.
 sh::Coeffs<N> cap_visibility(float sin_angle) {

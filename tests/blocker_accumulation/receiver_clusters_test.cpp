@@ -17,13 +17,12 @@
 
 #include "common/stability.h"
 #include "penumbra/sh/exp_log.h"
+#include "test_skies.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
 
-constexpr int N = 4;
-
-sh::CoeffsRgb<N> uniform_sky() {
+sh::CoeffsRgb<N> uniform_sh_sky() {
   sh::CoeffsRgb<N> sky{};
   for (auto& c : sky) c[0] = std::sqrt(4 * std::numbers::pi_v<float>);
   return sky;
@@ -32,7 +31,7 @@ sh::CoeffsRgb<N> uniform_sky() {
 // A sky brighter overhead and towards +x, different per channel (so the channels do not agree by
 // accident).
 sh::CoeffsRgb<N> tilted_sky() {
-  sh::CoeffsRgb<N> sky = uniform_sky();
+  sh::CoeffsRgb<N> sky = uniform_sh_sky();
   for (int c = 0; c < 3; ++c) {
     sky[c][sh::index(1, 0)] = 0.8f + 0.2f * c;
     sky[c][sh::index(1, 1)] = 0.5f - 0.2f * c;
@@ -60,24 +59,24 @@ Receivers ground(int side, float extent) {
 }
 
 // Scattered spheres (radius 1-3 m, heights 2-10 m) and objects of 16 spheres, as the bench.
-struct Scene {
+struct ClusterScene {
   std::vector<WorldSphere> spheres;
   std::vector<BlockerGroup> groups;
 };
 
-Scene scattered(int count, float extent, unsigned seed) {
+ClusterScene scattered(int count, float extent, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> xy(-0.5f * extent, 0.5f * extent), z(2, 10), r(1, 3);
-  Scene s;
+  ClusterScene s;
   for (int i = 0; i < count; ++i) s.spheres.push_back({{xy(rng), xy(rng), z(rng)}, r(rng)});
   return s;
 }
 
-Scene objects(int count, float extent, unsigned seed) {
+ClusterScene objects(int count, float extent, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> xy(-0.5f * extent, 0.5f * extent), z(4, 8), r(0.5f, 1.5f),
       u(-1, 1);
-  Scene s;
+  ClusterScene s;
   for (int o = 0; o < count; ++o) {
     const glm::vec3 centre(xy(rng), xy(rng), z(rng));
     const auto first = static_cast<std::uint32_t>(s.spheres.size());
@@ -162,7 +161,7 @@ TEST(ReceiverClusters, RejectsBadInput) {
   rc.set_receivers(p, n);
   BlockerAccumulation<N> acc;
   std::vector<glm::vec3> out(2);
-  EXPECT_THROW(rc.shade(acc, uniform_sky(), out), std::invalid_argument);
+  EXPECT_THROW(rc.shade(acc, uniform_sh_sky(), out), std::invalid_argument);
 }
 
 // Every receiver in exactly one cluster, none over max_receivers, each inside its cluster's
@@ -206,7 +205,7 @@ TEST(ReceiverClusters, PartitionsTheReceivers) {
 // per-receiver loop: the same irradiance and visibility up to rounding.
 TEST(ReceiverClusters, NothingSharedIsThePerReceiverPath) {
   const Receivers r = ground(60, 60);
-  const Scene s = scattered(60, 60, 5);
+  const ClusterScene s = scattered(60, 60, 5);
   BlockerSettings bs;
   bs.hierarchy = BlockerHierarchy::kOff;
   BlockerAccumulation<N> acc(bs);
@@ -235,7 +234,7 @@ TEST(ReceiverClusters, BatchedShadingIsIrradiancePerReceiver) {
   std::mt19937 rng(5);
   std::normal_distribution<float> tilt(0, 0.4f);
   for (glm::vec3& n : r.normals) n = glm::normalize(glm::vec3(tilt(rng), tilt(rng), 1));
-  const Scene s = scattered(80, 30, 9);
+  const ClusterScene s = scattered(80, 30, 9);
   for (const bool light : {false, true}) {
     BlockerAccumulation<N> acc;
     acc.set_blockers(s.spheres);
@@ -277,7 +276,7 @@ TEST(ReceiverClusters, BatchedShadingIsIrradiancePerReceiver) {
 // spheres / 9 objects of 16, the same densities. Bounds: measured (printed) plus margin.
 struct Case {
   const char* name;
-  Scene scene;
+  ClusterScene scene;
   double max_rms_vs_all, max_max_vs_all, max_rms_vs_receiver, max_max_vs_receiver;
 };
 
@@ -359,7 +358,7 @@ TEST(ReceiverClusters, FollowTheClippedEigenLog) {
   const sh::CoeffsRgb<N> sky = tilted_sky();
   ReceiverClusters<N> rc;
   rc.set_receivers(r.points, r.normals);
-  const Scene scene = scattered(60, 60, 11);
+  const ClusterScene scene = scattered(60, 60, 11);
   BlockerSettings ren;
   ren.blocker.log = BlockerLog::kClippedEigen;
   BlockerAccumulation<N> acc(ren), cap;
@@ -379,10 +378,10 @@ TEST(ReceiverClusters, FollowTheClippedEigenLog) {
 
 TEST(ReceiverClusters, NoSeamsBetweenClusters) {
   const Receivers r = ground(120, 120);  // 1 m apart
-  const sh::CoeffsRgb<N> sky = uniform_sky();
+  const sh::CoeffsRgb<N> sky = uniform_sh_sky();
   struct SeamCase {
     const char* name;
-    Scene scene;
+    ClusterScene scene;
     bool band_ratio;
     double bound;  // largest step across clusters beyond the per-receiver path's, relative
   };
@@ -419,7 +418,7 @@ TEST(ReceiverClusters, CurvedReceiversKeepThePlaneRule) {
       p.push_back(glm::vec3(0, 0, 20) + 8.0f * d);
       n.push_back(d);
     }
-  Scene s = scattered(200, 120, 21);
+  ClusterScene s = scattered(200, 120, 21);
   for (auto& x : s.spheres) x.centre.z *= 4;  // some above the ball too
   const sh::CoeffsRgb<N> sky = tilted_sky();
   BlockerAccumulation<N> acc;

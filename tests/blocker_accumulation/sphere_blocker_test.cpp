@@ -12,11 +12,11 @@
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/sh/zh.h"
+#include "test_skies.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {
 
-constexpr int N = 4;
 const glm::vec3 kUp{0, 0, 1};
 
 sh::Coeffs<N> log_vis(const glm::vec3& p, const glm::vec3& n, const glm::vec3& c, float r,

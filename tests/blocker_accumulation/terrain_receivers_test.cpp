@@ -1,4 +1,5 @@
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
+#include "test_skies.h"
 
 #include <gtest/gtest.h>
 
@@ -7,8 +8,6 @@
 
 namespace penumbra::blocker_accumulation {
 namespace {
-
-constexpr int N = 4;
 
 // A flat 65 x 65 field (1 m cells, centred on the origin): horizons 0, normals up, lighting 1.
 struct Flat {

@@ -5,6 +5,13 @@
 
 #include "penumbra/data/environment_map.h"
 
+namespace penumbra::blocker_accumulation {
+
+// The band count the unit tests run at (one definition, so that a unity build sees one).
+inline constexpr int N = 4;
+
+}  // namespace penumbra::blocker_accumulation
+
 namespace penumbra::blocker_accumulation::test {
 
 // Radiance 1 in every direction (64 x 32 equirectangular): open-sky irradiance pi.

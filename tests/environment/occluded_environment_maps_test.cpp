@@ -23,10 +23,10 @@ namespace t = penumbra::test;
 
 namespace {
 
-constexpr int kW = 512, kH = 256;
+constexpr int kMapW = 512, kMapH = 256;
 
 penumbra::data::EnvironmentMap two_sun_map() {
-  auto m = t::flat_map(kW, kH, glm::vec3(0.3f, 0.4f, 0.6f));
+  auto m = t::flat_map(kMapW, kMapH, glm::vec3(0.3f, 0.4f, 0.6f));
   t::add_disc(m, t::dir_deg(60, 35), 3.0f, glm::vec3(3000, 2800, 2500));
   t::add_disc(m, t::dir_deg(250, 10), 4.0f, glm::vec3(800));
   return m;
@@ -51,8 +51,8 @@ TEST(OccludedEnvironmentMaps, EachSetIsTheBlackenedMapsProjection) {
       for (std::uint32_t i : d.sources[static_cast<std::size_t>(j)].texels)
         for (int c = 0; c < 3; ++c) copy.rgb[3 * i + static_cast<std::size_t>(c)] = 0.0f;
     }
-    const auto ref4 = sh::project_equirect<sh::kDefaultBands>(copy.rgb.data(), kW, kH);
-    const auto ref3 = sh::project_equirect<3>(copy.rgb.data(), kW, kH);
+    const auto ref4 = sh::project_equirect<sh::kDefaultBands>(copy.rgb.data(), kMapW, kMapH);
+    const auto ref3 = sh::project_equirect<3>(copy.rgb.data(), kMapW, kMapH);
     for (std::size_t c = 0; c < 3; ++c) {
       const float tol = 1e-3f * ref4[c][0];
       for (std::size_t i = 0; i < ref4[c].size(); ++i)
@@ -68,7 +68,8 @@ TEST(OccludedEnvironmentMaps, RemovingASourceRemovesItsShare) {
   ASSERT_EQ(d.sources.size(), 2u);
   const auto oem = env::build_occluded_environment_maps(m, d);
   const double whole = dc_luminance(oem.sh[3]);
-  EXPECT_NEAR(whole, dc_luminance(sh::project_equirect<sh::kDefaultBands>(m.rgb.data(), kW, kH)),
+  EXPECT_NEAR(whole,
+              dc_luminance(sh::project_equirect<sh::kDefaultBands>(m.rgb.data(), kMapW, kMapH)),
               1e-3 * whole);  // project_equirect sums in float
   for (int j = 0; j < 2; ++j) {
     const double share = d.sources[static_cast<std::size_t>(j)].energy_share;
@@ -94,7 +95,7 @@ TEST(OccludedEnvironmentMaps, DetectionOfAnotherMapThrows) {
   auto d = env::detect_light_sources(m);
   const auto small = t::flat_map(64, 32, glm::vec3(1), "small.exr");
   EXPECT_THROW(env::build_occluded_environment_maps(small, d), std::invalid_argument);
-  d.sources[0].texels.push_back(kW * kH);  // outside the map
+  d.sources[0].texels.push_back(kMapW * kMapH);  // outside the map
   EXPECT_THROW(env::build_occluded_environment_maps(m, d), std::invalid_argument);
 }
 

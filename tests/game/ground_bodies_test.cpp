@@ -17,7 +17,7 @@ using components::Terrain;
 
 // 65 x 65 samples of 100 m around the origin; heights from f(x, y) in metres.
 template <class F>
-Terrain field(F f) {
+Terrain shaped_field(F f) {
   auto h = std::make_shared<data::HeightField>();
   h->width = h->height = 65;
   h->cell_size = 100.0f;
@@ -37,7 +37,7 @@ GroundBody roller(glm::vec2 at) {
 }
 
 TEST(GroundBodies, ARollerRollsDownhillAndTumbles) {
-  const Terrain ramp = field([](float x, float) { return 0.3f * x; });
+  const Terrain ramp = shaped_field([](float x, float) { return 0.3f * x; });
   GroundBody b = roller({1000.0f, 0.0f});
   const glm::quat start = b.tumble;
   for (int i = 0; i < 30; ++i) step_body(b, ramp, 1.0f / 30, i, BodyConfig{});
@@ -47,7 +47,7 @@ TEST(GroundBodies, ARollerRollsDownhillAndTumbles) {
 }
 
 TEST(GroundBodies, ARollerAtRestInAHollowStartsAgainFromHigherGround) {
-  const Terrain bowl = field([](float x, float y) { return 1e-4f * (x * x + y * y); });
+  const Terrain bowl = shaped_field([](float x, float y) { return 1e-4f * (x * x + y * y); });
   GroundBody b = roller({0.0f, 0.0f});
   const BodyConfig c;
   std::uint64_t step = 0;
@@ -58,7 +58,7 @@ TEST(GroundBodies, ARollerAtRestInAHollowStartsAgainFromHigherGround) {
 }
 
 TEST(GroundBodies, AWandererKeepsItsPaceAndStaysInTheValley) {
-  const Terrain flat = field([](float, float) { return 0.0f; });
+  const Terrain flat = shaped_field([](float, float) { return 0.0f; });
   GroundBody b;
   b.motion = BodyMotion::kWander;
   b.radius = 150.0f;
@@ -72,7 +72,7 @@ TEST(GroundBodies, AWandererKeepsItsPaceAndStaysInTheValley) {
 }
 
 TEST(GroundBodies, ContactsPushBodiesApartAndOutOfTheOrb) {
-  const Terrain flat = field([](float, float) { return 0.0f; });
+  const Terrain flat = shaped_field([](float, float) { return 0.0f; });
   GroundBody a = roller({0.0f, 0.0f}), b = roller({100.0f, 0.0f});
   a.velocity = {300.0f, 0.0f};
   GroundBody pair[] = {a, b};
@@ -91,7 +91,7 @@ TEST(GroundBodies, ContactsPushBodiesApartAndOutOfTheOrb) {
 }
 
 TEST(GroundBodies, NonFiniteStateIsReset) {
-  const Terrain flat = field([](float, float) { return 0.0f; });
+  const Terrain flat = shaped_field([](float, float) { return 0.0f; });
   GroundBody b = roller({NAN, 0.0f});
   b.velocity = {INFINITY, 0.0f};
   step_body(b, flat, 1.0f / 30, 0, BodyConfig{});
@@ -99,7 +99,7 @@ TEST(GroundBodies, NonFiniteStateIsReset) {
 }
 
 TEST(GroundBodies, TheTransformStandsTheModelOnTheGround) {
-  const Terrain ramp = field([](float x, float) { return 0.5f * x + 100.0f; });
+  const Terrain ramp = shaped_field([](float x, float) { return 0.5f * x + 100.0f; });
   GroundBody b = roller({400.0f, -300.0f});
   const glm::mat4 m = body_transform(b, ramp, 2.0f, glm::vec3(1.0f, 2.0f, 3.0f));
   const glm::vec3 centre = glm::vec3(m * glm::vec4(1.0f, 2.0f, 3.0f, 1.0f));

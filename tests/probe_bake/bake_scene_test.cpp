@@ -11,12 +11,10 @@
 #include "common/stability.h"
 #include "penumbra/systems/probe_bake/probe_placement.h"
 #include "penumbra/systems/probe_bake/probe_validity.h"
+#include "test_paths.h"
 
 namespace penumbra::probe_bake {
 namespace {
-
-const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
-const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
 
 std::string error_of(const std::string& json) {
   try {

@@ -12,12 +12,10 @@
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
 #include "penumbra/systems/probe_bake/probe_sampling.h"
+#include "test_paths.h"
 
 namespace penumbra::probe_bake {
 namespace {
-
-const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
-const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
 
 BakeScene open_box() {
   return parse_bake_scene(R"({"probes": {"min": [0,0,0], "max": [4,4,4], "spacing": 1}})",

@@ -17,12 +17,10 @@
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_cloud/probe_tet_walk.h"
 #include "room_accuracy_points.h"
+#include "test_paths.h"
 
 namespace penumbra::probe_bake {
 namespace {
-
-const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
-const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
 
 BakeScene parse(const std::string& json) {
   return parse_bake_scene(json, "test.json", kData);

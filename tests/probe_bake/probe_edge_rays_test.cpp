@@ -10,12 +10,10 @@
 #include "common/stability.h"
 #include "penumbra/assets/probe_cloud_file.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
+#include "test_paths.h"
 
 namespace penumbra::probe_bake {
 namespace {
-
-const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
-const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
 
 // Distance to the nearest surface along 26 directions (an upper bound of the true distance).
 float surface_distance(const reference::Scene& traced, const glm::vec3& p) {

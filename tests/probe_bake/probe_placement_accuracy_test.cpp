@@ -15,12 +15,10 @@
 #include "penumbra/systems/probe_bake/probe_bake.h"
 #include "penumbra/systems/probe_cloud/probe_tet_walk.h"
 #include "room_accuracy_points.h"
+#include "test_paths.h"
 
 namespace penumbra::probe_bake {
 namespace {
-
-const std::filesystem::path kRoot = PENUMBRA_SOURCE_DIR;
-const std::filesystem::path kData = kRoot / ".." / "shared" / "data";
 
 using accuracy::PointSet;
 using accuracy::reference_values;

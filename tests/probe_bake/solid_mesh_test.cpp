@@ -13,12 +13,11 @@
 #include "common/stability.h"
 #include "penumbra/systems/probe_bake/bake_scene.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
+#include "test_paths.h"
 
 namespace penumbra::probe_bake {
 namespace {
 
-const std::filesystem::path kData =
-    std::filesystem::path(PENUMBRA_SOURCE_DIR) / ".." / "shared" / "data";
 // Debian's assimp-testmodels (a declared dependency): a 24-vertex box, each face its own copies.
 const std::filesystem::path kBoxDir = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary";
 

@@ -18,7 +18,7 @@ namespace {
 using test::kPi;
 using test::within_error;
 
-BounceOptions opts(int samples = 256, int bounce_samples = 4) {
+BounceOptions bounce_opts(int samples = 256, int bounce_samples = 4) {
   BounceOptions o;
   o.samples = samples;
   o.bounce_samples = bounce_samples;
@@ -26,7 +26,7 @@ BounceOptions opts(int samples = 256, int bounce_samples = 4) {
   return o;
 }
 
-RgbEstimate one(const Scene& s, const Receiver& r, const BounceOptions& o = opts()) {
+RgbEstimate one_bounce(const Scene& s, const Receiver& r, const BounceOptions& o = bounce_opts()) {
   return indirect_irradiance(s, std::span(&r, 1), o)[0];
 }
 
@@ -73,7 +73,7 @@ TEST(IndirectIrradiance, LambertianPlaneUnderUniformSky) {
   d.height_fields.push_back(plane(half, a));
   const Scene s(d);
   const Receiver down{{0, 0, h}, {0, 0, -1}};
-  const RgbEstimate e = one(s, down, opts(1024));
+  const RgbEstimate e = one_bounce(s, down, bounce_opts(1024));
   // Exact, from the ray origin (the receiver moved by the automatic offset along its normal).
   const double z = h - 1e-5 * s.extent();
   const double phi = projected_solid_angle(
@@ -90,7 +90,7 @@ TEST(IndirectIrradiance, LambertianPlaneUnderUniformSky) {
   EXPECT_GT(e.rays, e.samples);
   EXPECT_LE(e.rays, e.samples * 5);
 
-  const RgbEstimate up = one(s, {{0, 0, h}, {0, 0, 1}});
+  const RgbEstimate up = one_bounce(s, {{0, 0, h}, {0, 0, 1}});
   EXPECT_EQ(up.mean, glm::vec3(0));
   EXPECT_EQ(up.std_error, glm::vec3(0));
   EXPECT_EQ(up.rays, up.samples);  // first-hit rays only, all escaping
@@ -120,7 +120,7 @@ TEST(IndirectIrradiance, BlackAlbedoAndBlockedReflectorGiveZero) {
   {
     const Scene s(d);
     EXPECT_FALSE(s.reflects());
-    const RgbEstimate e = one(s, r);
+    const RgbEstimate e = one_bounce(s, r);
     EXPECT_EQ(e.mean, glm::vec3(0));
     EXPECT_EQ(e.std_error, glm::vec3(0));
     EXPECT_EQ(e.rays, 0u);
@@ -130,13 +130,13 @@ TEST(IndirectIrradiance, BlackAlbedoAndBlockedReflectorGiveZero) {
   {
     const Scene s(d);
     EXPECT_TRUE(s.reflects());
-    EXPECT_GT(one(s, r).mean.x, 1.0f);  // lit by sky and lamp: about 0.7 (pi + 0.13 pi 10)
+    EXPECT_GT(one_bounce(s, r).mean.x, 1.0f);  // lit by sky and lamp: about 0.7 (pi + 0.13 pi 10)
   }
   // A black quad at z = 0.5, larger than the reflector: every first hit is on it.
   d.meshes.push_back({test::quad(40, 0.5f), glm::mat4(1.0f)});
   {
     const Scene s(d);
-    const RgbEstimate e = one(s, r);
+    const RgbEstimate e = one_bounce(s, r);
     EXPECT_EQ(e.mean, glm::vec3(0));
     EXPECT_EQ(e.std_error, glm::vec3(0));
     EXPECT_EQ(e.rays, e.samples);  // first-hit rays only: black hits cast no shadow rays
@@ -145,8 +145,8 @@ TEST(IndirectIrradiance, BlackAlbedoAndBlockedReflectorGiveZero) {
   d = {};
   d.height_fields.push_back(plane(20, glm::vec3(1)));
   const Scene dark(d);
-  EXPECT_EQ(one(dark, r).mean, glm::vec3(0));
-  EXPECT_EQ(one(dark, r).rays, 0u);
+  EXPECT_EQ(one_bounce(dark, r).mean, glm::vec3(0));
+  EXPECT_EQ(one_bounce(dark, r).rays, 0u);
 }
 
 // A convex reflector alone under a uniform sky L: every point of it sees the whole hemisphere
@@ -161,7 +161,7 @@ TEST(IndirectIrradiance, SphereReflectorUnderUniformSky) {
   d.spheres = {{{0, 0, -dist}, radius, "ball", a}};
   const Scene s(d);
   const glm::vec3 n = glm::normalize(glm::vec3(0.4f, 0, -1));
-  const RgbEstimate e = one(s, {{0, 0, 0}, n}, opts(1024));
+  const RgbEstimate e = one_bounce(s, {{0, 0, 0}, n}, bounce_opts(1024));
   EXPECT_GE(e.dof, 30u);
   const double sin2 = (radius / dist) * (radius / dist), cos_b = -n.z;
   for (int c = 0; c < 3; ++c) {
@@ -215,7 +215,7 @@ TEST(IndirectIrradiance, SphereReflectorLitBySphereLightMatchesQuadrature) {
   const double coarse = test::cap_integral(to_c / dist, cos_alpha, 300, 600, bounce);
   const double quad_err = std::abs(fine - coarse);  // bounds the fine one's error (O(h^2))
   EXPECT_LT(quad_err, 1e-4 * fine);
-  const RgbEstimate e = one(s, {glm::vec3(p), glm::vec3(n)}, opts(4096));
+  const RgbEstimate e = one_bounce(s, {glm::vec3(p), glm::vec3(n)}, bounce_opts(4096));
   EXPECT_GE(e.dof, 30u);
   for (int c = 0; c < 3; ++c) {
     const double exact = a[c] * Le[c] * fine;
@@ -226,7 +226,7 @@ TEST(IndirectIrradiance, SphereReflectorLitBySphereLightMatchesQuadrature) {
   }
   // More samples per hit (16): the same mean. (Its error bar is hardly smaller: the variance
   // across first-hit directions -- the terminator, the sphere's outline -- dominates.)
-  const RgbEstimate more = one(s, {glm::vec3(p), glm::vec3(n)}, opts(4096, 16));
+  const RgbEstimate more = one_bounce(s, {glm::vec3(p), glm::vec3(n)}, bounce_opts(4096, 16));
   EXPECT_TRUE(within_error(more.mean.x, more.std_error.x, a.x * Le.x * fine,
                            a.x * Le.x * quad_err + 1e-5 * fine));
 }
@@ -242,7 +242,7 @@ TEST(IndirectIrradiance, ErrorBarsAreCalibrated) {
   const glm::dvec3 n = glm::normalize(glm::dvec3(0.3, 0, -1));
   const double exact = 0.00332206009;  // SphereReflectorLitBySphereLightMatchesQuadrature
   const std::vector<Receiver> rs(100, Receiver{{0, 0, 0}, glm::vec3(n)});
-  const auto e = indirect_irradiance(s, rs, opts(4096));
+  const auto e = indirect_irradiance(s, rs, bounce_opts(4096));
   double z2 = 0;
   int beyond3 = 0;
   for (const RgbEstimate& r : e) {
@@ -269,7 +269,7 @@ TEST(IndirectIrradiance, DeterministicAcrossThreadCounts) {
   for (int i = 0; i < 200; ++i) {
     rs.push_back({{0.02f * i - 2, 0.01f * i - 1, 0.0f}, {std::sin(0.1f * i), 0.0f, 1.0f}});
   }
-  const BounceOptions o = opts(64);
+  const BounceOptions o = bounce_opts(64);
   std::vector<RgbEstimate> one_thread, two_threads;
   tbb::task_arena(1).execute([&] { one_thread = indirect_irradiance(s, rs, o); });
   tbb::task_arena(2).execute([&] { two_threads = indirect_irradiance(s, rs, o); });

@@ -24,9 +24,7 @@ Scene sky_scene(data::EnvironmentMap map, float rot = 0) {
   return Scene(d);
 }
 
-glm::vec3 unit(float theta, float phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
+using test::unit;
 
 IrradianceOptions with(EnvironmentStrategy s, MisHeuristic h = MisHeuristic::kPower,
                        int samples = 256) {

@@ -15,9 +15,7 @@ namespace {
 using test::kPi;
 using test::within_error;
 
-glm::vec3 unit(float theta, float phi) {
-  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
-}
+using test::unit;
 
 LightOptions opts(int samples = 256) {
   LightOptions o;

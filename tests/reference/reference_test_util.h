@@ -24,6 +24,11 @@ namespace penumbra::reference::test {
 
 constexpr double kPi = std::numbers::pi;
 
+// The unit vector at polar angle theta from +z and azimuth phi from +x.
+inline glm::vec3 unit(float theta, float phi) {
+  return {std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta)};
+}
+
 // Row y's edges in z = cos(theta): top (larger) and bottom.
 inline double z_top(int y, int h) {
   return std::cos(kPi * y / h);
@@ -35,7 +40,7 @@ inline double z_bottom(int y, int h) {
 // A map whose texel (x, y) holds f(x, y, direction at the texel centre) in every channel
 // scaled by `tint`.
 inline data::EnvironmentMap make_map(int w, int h, const std::function<glm::vec3(int, int)>& f,
-                                       std::string source = "procedural") {
+                                     std::string source = "procedural") {
   data::EnvironmentMap m;
   m.width = w;
   m.height = h;

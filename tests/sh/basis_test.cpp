@@ -12,8 +12,6 @@
 
 namespace penumbra::sh {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
-
 // The first 16 basis functions as printed in [Ambrosj16] appendix A.
 std::array<float, 16> appendix_a(float x, float y, float z) {
   return {0.5f * std::sqrt(1 / kPi),

@@ -11,8 +11,6 @@
 
 namespace penumbra::sh {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
-
 TEST(Irradiance, ConstantSkyGivesPiL) {
   Coeffs<4> l{};
   l[0] = 2.0f * std::sqrt(4 * kPi);  // L = 2 everywhere

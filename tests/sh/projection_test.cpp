@@ -12,8 +12,6 @@
 
 namespace penumbra::sh {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
-
 TEST(Quadrature, WeightsSumToSphereAndIntegratePolynomials) {
   const SphereQuadrature q = SphereQuadrature::gauss(6, 12);
   double sum = 0, z4 = 0, x2y2 = 0;

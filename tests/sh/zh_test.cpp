@@ -11,8 +11,6 @@
 
 namespace penumbra::sh {
 namespace {
-constexpr float kPi = std::numbers::pi_v<float>;
-
 // Brute force: ZH coefficients of f(cos theta) by a 20000-point midpoint rule in z.
 template <int N, class F>
 Zonal<N> zh_brute(F f) {

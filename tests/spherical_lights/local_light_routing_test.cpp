@@ -18,6 +18,7 @@
 #include "penumbra/jobs/executor.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
 #include "penumbra/systems/spherical_lights/spherical_light_systems.h"
+#include "test_constants.h"
 
 namespace penumbra::spherical_lights {
 namespace {
@@ -25,19 +26,18 @@ namespace {
 using components::LocalLightPath;
 using components::ReceiverLighting;
 
-constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kRadiance = 10.0f;
 const glm::vec3 kLamp(0.0f, 0.0f, 6.0f);
 constexpr float kLampRadius = 0.5f;
 
 // Receivers on the ground at x = 0 (under the blocker and the lamp) and x = 3 (in the open);
 // a 1 m blocker sphere at height 3 between the lamp and x = 0; no environment light.
-struct Scene {
+struct RoutingScene {
   ecs::World world;
   jobs::Schedule schedule;
   jobs::Executor executor{2};
   ecs::Entity ground;
-  explicit Scene(LocalLightPath path) {
+  explicit RoutingScene(LocalLightPath path) {
     blocker_accumulation::emplace_blocker_resources(world);
     emplace_spherical_light_resources(world);
     world.emplace_resource<components::EnvironmentLight>();  // black
@@ -75,7 +75,7 @@ float exact_under() {
 // 18 degrees away, leaks over it); under the blocker 0.134, 61% of the unoccluded 0.218 where
 // the exact answer is 0 (the 4-band visibility cannot make a shadow this sharp).
 TEST(LocalLightRouting, ThroughTheBlockerSystemByDefault) {
-  Scene s(LocalLightPath::kBlockerSh);
+  RoutingScene s(LocalLightPath::kBlockerSh);
   const ReceiverLighting& l = s.lighting();
   ASSERT_TRUE(l.irradiance);
   EXPECT_FALSE(l.local);
@@ -87,7 +87,7 @@ TEST(LocalLightRouting, ThroughTheBlockerSystemByDefault) {
 // blocker 0.032, 15% of the unoccluded (eq. 23-24's exponentials of the band-limited log
 // visibility over the lamp's cap).
 TEST(LocalLightRouting, ThroughTheSphereLightGatherWithSharperShadows) {
-  Scene s(LocalLightPath::kSphereLightGather);
+  RoutingScene s(LocalLightPath::kSphereLightGather);
   const ReceiverLighting& l = s.lighting();
   ASSERT_TRUE(l.irradiance && l.local);
   EXPECT_NEAR((*l.irradiance)[1].x, 0.0f, 1e-4f) << "blockers.shade leaves the lamp out";
@@ -97,7 +97,7 @@ TEST(LocalLightRouting, ThroughTheSphereLightGatherWithSharperShadows) {
 }
 
 TEST(LocalLightRouting, WithoutLocalLightsTheTermIsCleared) {
-  Scene s(LocalLightPath::kSphereLightGather);
+  RoutingScene s(LocalLightPath::kSphereLightGather);
   std::vector<ecs::Entity> lamps;
   s.world.query<const components::SphericalLight>().each(
       [&](ecs::Entity e, const components::SphericalLight&) { lamps.push_back(e); });

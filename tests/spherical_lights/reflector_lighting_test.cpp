@@ -6,13 +6,11 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "test_constants.h"
 #include "test_meshes.h"
 
 namespace penumbra::spherical_lights {
 namespace {
-
-constexpr float kPi = 3.14159265f;
-const float kSqrt4Pi = std::sqrt(4 * kPi);
 
 sh::CoeffsRgb<4> white_sky(float radiance) {
   sh::CoeffsRgb<4> sky{};

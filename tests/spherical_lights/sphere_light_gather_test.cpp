@@ -9,11 +9,10 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 #include "common/stability.h"
+#include "test_constants.h"
 
 namespace penumbra::spherical_lights {
 namespace {
-
-constexpr float kPi = 3.14159265f;
 
 SphereLightSource<4> uniform_light(glm::vec3 c, float r, float radiance, std::uint32_t object) {
   SphereLightSource<4> l;

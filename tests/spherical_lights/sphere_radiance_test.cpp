@@ -6,11 +6,10 @@
 #include <gtest/gtest.h>
 
 #include "penumbra/systems/spherical_lights/reflector_samples.h"
+#include "test_constants.h"
 
 namespace penumbra::spherical_lights {
 namespace {
-
-constexpr float kSqrt4Pi = 3.5449077f;
 
 TEST(VoronoiCellSums, CellsPartitionTheDirectionsAndAConstantProjectsToAConstant) {
   const std::vector<glm::vec3> dirs = geodesic_directions(3);

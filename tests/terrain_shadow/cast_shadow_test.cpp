@@ -8,11 +8,10 @@
 #include <numbers>
 #include <stdexcept>
 #include "common/stability.h"
+#include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
-
-constexpr float kPi = std::numbers::pi_v<float>;
 
 data::HeightField walled(int n) {
   data::HeightField f;

@@ -19,21 +19,18 @@
 #include "penumbra/sh/rotation.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_state.h"
 #include "penumbra/systems/terrain_shadow/terrain_shadow_systems.h"
+#include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr int N = kSystemBands;
 
-float luminance(const glm::vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 glm::vec3 turn(const glm::vec3& d, float a) {
   return {std::cos(a) * d.x - std::sin(a) * d.y, std::sin(a) * d.x + std::cos(a) * d.y, d.z};
 }
 
-struct Scene {
+struct EnvScene {
   TerrainShadowing<N> shadowing{[] {
     TerrainShadowConfig c;
     c.azimuths = 16;
@@ -45,7 +42,7 @@ struct Scene {
   glm::vec3 sun_irradiance{30.0f, 25.0f, 18.0f};
   std::vector<float> horizons;
 
-  Scene() {
+  EnvScene() {
     shadowing.update(
         std::make_shared<data::HeightField>(assets::procedural_scene("mountains", {64, 128.0f}, 3)),
         1.0f);
@@ -105,7 +102,7 @@ TEST(EnvironmentRefresh, RotationSpeedBoundIsTheSpeedOfTheCoefficients) {
 // shaded again) is within the tolerance of its irradiance; the check is not vacuous: small
 // turns leave tiles, large ones re-shade most.
 TEST(EnvironmentRefresh, SkippedTilesChangeByLessThanTheTolerance) {
-  const Scene s;
+  const EnvScene s;
   const std::vector<glm::vec3> before = s.shade(0.0f);
   EnvironmentRefreshConfig config;
   EnvironmentRefresh refresh(config);
@@ -141,7 +138,7 @@ TEST(EnvironmentRefresh, SkippedTilesChangeByLessThanTheTolerance) {
 }
 
 TEST(EnvironmentRefresh, BudgetAndNewHorizons) {
-  const Scene s;
+  const EnvScene s;
   EnvironmentRefresh refresh({16, 1.0f / 256.0f, 0.01f, 0.25f});
   refresh.reset(64, 64, s.norms());
   EXPECT_EQ(refresh.plan(s.pose(0.0f)).size(), 4u) << "a quarter of 16 tiles";

@@ -19,8 +19,6 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
-
 // A cliff: height h from column x on, 0 before.
 data::HeightField cliff(int n, int x0, float h) {
   data::HeightField f = test::flat_field(n, n, 0.0f, 1.0f, "test field");

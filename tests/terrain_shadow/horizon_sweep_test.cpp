@@ -18,13 +18,13 @@
 #include "common/stability.h"
 #include "penumbra/assets/procedural.h"
 #include "sweep_lanes.h"  // internal: the kernels' two compiled copies
+#include "terrain_test_util.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
-
-data::HeightField mountains(int n, std::uint64_t seed = 3) {
+// fBm mountains with 1 m cells (steeper than test::mountains).
+data::HeightField unit_cell_mountains(int n, std::uint64_t seed = 3) {
   return assets::procedural_scene("mountains", {n, static_cast<float>(n)}, seed);
 }
 
@@ -36,7 +36,7 @@ struct Swept {
   HorizonGrid horizons;
 };
 Swept swept(int n, std::uint64_t seed, int azimuths) {
-  Swept s{mountains(n, seed), {}, {}, {}};
+  Swept s{unit_cell_mountains(n, seed), {}, {}, {}};
   s.p.azimuths = azimuths;
   sweep_horizons(s.f, s.p, TexelRect::all(s.f), s.horizons, s.ws);
   return s;
@@ -67,7 +67,7 @@ float max_abs_difference(const HorizonGrid& a, const HorizonGrid& b) {
 }
 
 TEST(HorizonSweep, EqualsBruteForceWhereLinesPassThroughTexels) {
-  const auto f = mountains(48);
+  const auto f = unit_cell_mountains(48);
   HorizonParams p;
   p.azimuths = 8;  // 0, 45, 90, ... degrees: every line passes through texel centres
   for (bool clamp : {true, false}) {
@@ -82,7 +82,7 @@ TEST(HorizonSweep, EqualsBruteForceWhereLinesPassThroughTexels) {
 TEST(HorizonSweep, EqualsBruteForceOnTheSameSamplesForEveryAzimuth) {
   // The hull finds the steepest sample exactly: brute force over the same line samples agrees
   // to float precision at 37 azimuths (none along an axis), clamped or not.
-  const auto f = mountains(48, 5);
+  const auto f = unit_cell_mountains(48, 5);
   HorizonParams p;
   p.azimuths = 37;
   for (bool clamp : {true, false}) {
@@ -97,7 +97,7 @@ TEST(HorizonSweep, EqualsBruteForceOnTheSameSamplesForEveryAzimuth) {
 TEST(HorizonSweep, LaneKernelEqualsTheScalarKernel) {
   // Eight lines per AVX2 step against one line at a time, on a field whose size is not a
   // multiple of 8, over a region touching no border, clamped or not.
-  const auto f = mountains(45, 7);
+  const auto f = unit_cell_mountains(45, 7);
   HorizonParams p;
   p.azimuths = 23;
   const TexelRect r{3, 5, 40, 33};
@@ -114,7 +114,7 @@ TEST(HorizonSweep, LineInterpolationErrorAgainstEachTexelsOwnRay) {
   // What the sweep gives up for sharing lines: a texel's horizon is blended from the two lines
   // less than a cell either side of it. Measured on 48x48 mountains, 32 azimuths: mean 0.0049
   // rad, max 0.60 rad (a texel beside a sharp crest, where the two lines see different crests).
-  const auto f = mountains(48);
+  const auto f = unit_cell_mountains(48);
   HorizonParams p;
   p.azimuths = 32;
   HorizonGrid sweep, brute;
@@ -130,7 +130,7 @@ TEST(HorizonSweep, LineInterpolationErrorAgainstEachTexelsOwnRay) {
 }
 
 TEST(HorizonSweep, ThroughAnEditEqualsAFullSweepAndFlagsWhatChanged) {
-  data::HeightField f = mountains(50, 11);
+  data::HeightField f = unit_cell_mountains(50, 11);
   HorizonParams p;
   p.azimuths = 19;
   HorizonGrid before, updated, full;
@@ -171,8 +171,9 @@ TEST(HorizonSweep, AReusedWorkspaceGivesWhatAFreshOneGives) {
     EXPECT_EQ(reused.angles, fresh.angles) << f.width << "x" << f.height << " " << r.x0;
     return reused;
   };
-  data::HeightField a = mountains(50, 4);
-  data::HeightField b = mountains(61, 9);  // cropped to 37 x 23: x- and y-major rows differ
+  data::HeightField a = unit_cell_mountains(50, 4);
+  data::HeightField b =
+      unit_cell_mountains(61, 9);  // cropped to 37 x 23: x- and y-major rows differ
   b.width = 37, b.height = 23;
   b.heights.resize(37 * 23);
   for (int y = 0; y < 23; ++y)
@@ -227,7 +228,7 @@ TEST(HorizonSweep, WallCastsItsExactAngle) {
 // One direction (a key light's azimuth): at azimuth k it equals the full sweep's plane k; at
 // any other angle, the exact angle of a wall seen along it.
 TEST(HorizonSweep, OneDirectionEqualsTheSweepAndSeesAWall) {
-  const data::HeightField f = mountains(48);
+  const data::HeightField f = unit_cell_mountains(48);
   HorizonParams p;
   p.azimuths = 16;
   HorizonGrid g;
@@ -256,7 +257,7 @@ TEST(HorizonSweep, OneDirectionEqualsTheSweepAndSeesAWall) {
 }
 
 TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
-  const auto f = mountains(40);
+  const auto f = unit_cell_mountains(40);
   HorizonParams p;
   p.azimuths = 16;
   HorizonGrid full, part;
@@ -277,7 +278,7 @@ TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
   // From 256^2 texels, with 32 azimuths on 2 threads, tasks take 16 azimuths and write each
   // texel's record lines whole with streaming stores; regions of a quarter of that take 8 and
   // write them in halves. Same horizons, bit for bit.
-  const auto f = mountains(264, 21);
+  const auto f = unit_cell_mountains(264, 21);
   HorizonParams p;
   p.azimuths = 32;
   HorizonGrid full, quarters;
@@ -383,7 +384,7 @@ TEST(HorizonSweep, AKeptHullIsTheHullAWalkFromTheFarEndTakes) {
   // kept hull leaves the same hull at its first recorded column, and the same horizons, as the
   // same edit walked from the far end; the second box lies behind the first along +x and +y,
   // so most groups resume and walk the gap between the two.
-  data::HeightField f = mountains(60, 5);
+  data::HeightField f = unit_cell_mountains(60, 5);
   HorizonParams p;
   p.azimuths = 16;
   HorizonGrid before;
@@ -450,7 +451,7 @@ TEST(HorizonSweep, TheAvx512KernelsGiveTheAvx2KernelsBits) {
   // workspace (the second resumes from the hulls the first kept), bit for bit.
   if (detail::sweep_isa() != detail::SweepIsa::kAvx512)
     GTEST_SKIP() << "this CPU has no AVX-512: only the AVX2 kernels can run";
-  data::HeightField f = mountains(70, 13);
+  data::HeightField f = unit_cell_mountains(70, 13);
   HorizonParams p;
   p.azimuths = 24;
   auto run = [&](detail::SweepIsa isa) {
@@ -508,7 +509,7 @@ TEST(HorizonSweep, TheLaneFieldsHoldEverySampleOnBothAxesAndZerosAround) {
   // changes in a band's last row, in the short last band and to a sign bit (-0 for 0) must
   // still reach both copies.
   for (const auto& [w, h] : {std::pair{45, 37}, std::pair{520, 515}}) {
-    data::HeightField f = mountains(std::max(w, h), 17);
+    data::HeightField f = unit_cell_mountains(std::max(w, h), 17);
     f = data::crop(f, 0, 0, w, h);
     detail::LaneFields fields;
     fields.x_major.assign(1, 0.0f);  // another shape: assign() sizes and zeroes its storage
@@ -554,7 +555,7 @@ TEST(HorizonSweep, FlatSpikeAndExtremeSlopesStayFinite) {
 TEST(HorizonSweep, RejectsADistanceLimit) {
   PENUMBRA_STABILITY("a distance limit given to the (unlimited) sweep", "std::invalid_argument",
                      "use the march for limited distances");
-  const auto f = mountains(8);
+  const auto f = unit_cell_mountains(8);
   HorizonParams p;
   p.limit_to_point = glm::vec2(1, 1);
   HorizonGrid g;

@@ -20,12 +20,6 @@
 namespace penumbra::terrain_shadow {
 namespace {
 
-constexpr float kPi = std::numbers::pi_v<float>;
-
-float luminance(const glm::vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
-
 std::vector<glm::vec3> positions(const TerrainShadowing<4>& s) {
   std::vector<glm::vec3> p;
   for (int y = 0; y < s.field().height; ++y)

@@ -35,7 +35,6 @@ namespace {
 
 using test::mountains;
 
-constexpr float kPi = std::numbers::pi_v<float>;
 constexpr double kPiD = std::numbers::pi;
 
 TerrainShadowConfig mode(LightShading shading, CapHorizons cap_method = CapHorizons::kRadialSweep) {

@@ -28,7 +28,6 @@ namespace {
 using test::max_abs_diff;
 using test::random_horizon;
 
-constexpr float kPi = std::numbers::pi_v<float>;
 constexpr float kLogEps = -3.0f;
 
 template <int N>

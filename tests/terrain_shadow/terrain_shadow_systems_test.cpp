@@ -104,7 +104,7 @@ TEST(TerrainShadowSystems, ReportsTheWorkItSkipsPerFrame) {
   f.settle();
   f.frame();
   auto step = [&](std::string_view name) {
-    return test::system_timing(f.executor.last_frame(), name);
+    return penumbra::test::system_timing(f.executor.last_frame(), name);
   };
   for (const char* name :
        {"terrain_shadow.visibility", "terrain_shadow.lights", "terrain_shadow.compose"}) {

@@ -25,8 +25,6 @@ namespace {
 
 using test::mountains;
 
-constexpr float kPi = std::numbers::pi_v<float>;
-
 sh::CoeffsRgb<4> constant_sky(float radiance) {
   sh::CoeffsRgb<4> l{};
   for (auto& c : l) c[0] = radiance * std::sqrt(4 * kPi);  // y_00 = 1 / sqrt(4 pi)

@@ -5,20 +5,33 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "penumbra/data/height_field.h"
 #include "penumbra/assets/procedural.h"
+#include "penumbra/data/height_field.h"
 #include "penumbra/sh/basis.h"
+
+namespace penumbra::terrain_shadow {
+
+// Used unqualified by the tests (one definition, so that a unity build sees one).
+inline constexpr float kPi = std::numbers::pi_v<float>;
+
+// Rec. 709 luminance of linear RGB.
+inline float luminance(const glm::vec3& c) {
+  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
+}
+
+}  // namespace penumbra::terrain_shadow
 
 namespace penumbra::terrain_shadow::test {
 
 // A flat field of w x h samples at height `value`, `cell` metres apart, named `source` (what
 // error messages name).
 inline data::HeightField flat_field(int w, int h, float value = 0.0f, float cell = 1.0f,
-                                      std::string source = "flat") {
+                                    std::string source = "flat") {
   data::HeightField f;
   f.width = w;
   f.height = h;
@@ -29,7 +42,7 @@ inline data::HeightField flat_field(int w, int h, float value = 0.0f, float cell
 }
 // The same, n x n, shared (what TerrainShadowing::update takes).
 inline std::shared_ptr<const data::HeightField> shared_flat(int n, float value = 0.0f,
-                                                              float cell = 1.0f) {
+                                                            float cell = 1.0f) {
   return std::make_shared<data::HeightField>(flat_field(n, n, value, cell));
 }
 

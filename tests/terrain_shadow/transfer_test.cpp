@@ -27,8 +27,6 @@ namespace {
 
 using test::max_abs_diff;
 
-constexpr float kPi = std::numbers::pi_v<float>;
-
 sh::Coeffs<4> constant(float value) {
   sh::Coeffs<4> c{};
   c[0] = value * std::sqrt(4 * kPi);

@@ -29,8 +29,6 @@ namespace {
 using test::max_abs_diff;
 using test::random_horizon;
 
-constexpr float kPi = std::numbers::pi_v<float>;
-
 template <int N>
 sh::Coeffs<N> add(const sh::Coeffs<N>& a, const sh::Coeffs<N>& b) {
   sh::Coeffs<N> s;
