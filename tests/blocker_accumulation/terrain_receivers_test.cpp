@@ -1,10 +1,11 @@
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
-#include "test_skies.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+
+#include "test_skies.h"
 
 namespace penumbra::blocker_accumulation {
 namespace {

@@ -1,4 +1,5 @@
-// Environment maps the blocker accuracy tests share (against the reference integrator).
+// What the blocker tests share: the unit tests' band count, and the environment maps the
+// accuracy tests use against the reference integrator.
 #pragma once
 
 #include <cstddef>

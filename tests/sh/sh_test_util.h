@@ -2,21 +2,14 @@
 #pragma once
 
 #include <cmath>
-#include <numbers>
 #include <random>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "common/constants.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/sh/projection.h"
-
-namespace penumbra::sh {
-
-// Used unqualified by the tests: one definition, so that a unity build sees one.
-inline constexpr float kPi = std::numbers::pi_v<float>;
-
-}  // namespace penumbra::sh
 
 namespace penumbra::sh::test {
 

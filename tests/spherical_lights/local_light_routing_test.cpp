@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "common/constants.h"
 #include "penumbra/components/environment_light.h"
 #include "penumbra/components/receiver.h"
 #include "penumbra/components/receiver_lighting.h"
@@ -18,7 +19,6 @@
 #include "penumbra/jobs/executor.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
 #include "penumbra/systems/spherical_lights/spherical_light_systems.h"
-#include "test_constants.h"
 
 namespace penumbra::spherical_lights {
 namespace {

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
-#include "test_constants.h"
+#include "common/constants.h"
 #include "test_meshes.h"
 
 namespace penumbra::spherical_lights {

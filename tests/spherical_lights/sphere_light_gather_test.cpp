@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
+#include "common/constants.h"
 #include "common/stability.h"
-#include "test_constants.h"
 
 namespace penumbra::spherical_lights {
 namespace {

@@ -10,7 +10,7 @@
 namespace penumbra::spherical_lights {
 namespace {
 
-constexpr double kPiD = 3.14159265358979323846;
+constexpr double kPi = 3.14159265358979323846;
 
 // int over the cap (half-angle asin(s), axis a) of max(0, n.w), by a fine midpoint grid.
 double numeric_cap(double s, const glm::dvec3& a, const glm::dvec3& n) {
@@ -23,18 +23,18 @@ double numeric_cap(double s, const glm::dvec3& a, const glm::dvec3& n) {
     const double z = c0 + (1 - c0) * (i + 0.5) / rows;
     const double r = std::sqrt(std::max(0.0, 1 - z * z));
     for (int j = 0; j < cols; ++j) {
-      const double phi = 2 * kPiD * (j + 0.5) / cols;
+      const double phi = 2 * kPi * (j + 0.5) / cols;
       const glm::dvec3 w = z * a + r * std::cos(phi) * u + r * std::sin(phi) * v;
       sum += std::max(0.0, glm::dot(n, w));
     }
   }
-  return sum * (1 - c0) * 2 * kPiD / (rows * cols);
+  return sum * (1 - c0) * 2 * kPi / (rows * cols);
 }
 
 TEST(CapCosineIntegral, MatchesQuadratureAboveAcrossAndBelowTheHorizon) {
   for (double s : {0.05, 0.3, 0.7, 0.95}) {
     for (double beta_deg : {0.0, 30.0, 60.0, 80.0, 90.0, 100.0, 120.0, 170.0}) {
-      const double b = beta_deg * kPiD / 180;
+      const double b = beta_deg * kPi / 180;
       const glm::dvec3 n(0, 0, 1), a(std::sin(b), 0, std::cos(b));
       const double expect = numeric_cap(s, a, n);
       EXPECT_NEAR(cap_cosine_integral(static_cast<float>(s), static_cast<float>(std::cos(b))),
@@ -43,7 +43,7 @@ TEST(CapCosineIntegral, MatchesQuadratureAboveAcrossAndBelowTheHorizon) {
     }
   }
   EXPECT_EQ(cap_cosine_integral(0.0f, 1.0f), 0.0f);
-  EXPECT_NEAR(cap_cosine_integral(1.0f, 1.0f), kPiD, 1e-3);  // a whole hemisphere
+  EXPECT_NEAR(cap_cosine_integral(1.0f, 1.0f), kPi, 1e-3);  // a whole hemisphere
 }
 
 // The lanes' version (the gather's per-receiver path) against the scalar one over sin and
@@ -80,7 +80,7 @@ glm::dvec3 numeric_average(double s, const glm::dvec3& to_receiver) {
     const double z = -1 + 2 * (i + 0.5) / rows;
     const double r = std::sqrt(1 - z * z);
     for (int j = 0; j < cols; ++j) {
-      const double phi = 2 * kPiD * (j + 0.5) / cols;
+      const double phi = 2 * kPi * (j + 0.5) / cols;
       const glm::dvec3 w(r * std::cos(phi), r * std::sin(phi), z);
       const double ca = glm::dot(w, to_receiver);
       const double f = std::max(0.0, (ca - s) / std::sqrt(1 - 2 * s * ca + s * s));
@@ -93,15 +93,15 @@ glm::dvec3 numeric_average(double s, const glm::dvec3& to_receiver) {
 TEST(AverageRadianceTable, ConstantRadianceAveragesToItselfAndLinearOnesMatchEq16) {
   const AverageRadianceTable<4> table;
   sh::CoeffsRgb<4> constant{};
-  constant[0][0] = 2 * std::sqrt(4 * static_cast<float>(kPiD));
+  constant[0][0] = 2 * std::sqrt(4 * static_cast<float>(kPi));
   for (float s : {0.0f, 0.2f, 0.6f, 0.95f}) {
     const glm::vec3 avg = table.average_radiance(constant, s, glm::normalize(glm::vec3(1, 2, 3)));
     EXPECT_NEAR(avg.x, 2.0f, 1e-4f) << s;
   }
   // L = 1 + 0.5 w.z + 0.25 w.x as SH (bands 0 and 1) in the red channel.
   sh::CoeffsRgb<4> linear{};
-  const float k1 = std::sqrt(4 * static_cast<float>(kPiD) / 3);
-  linear[0][0] = std::sqrt(4 * static_cast<float>(kPiD));
+  const float k1 = std::sqrt(4 * static_cast<float>(kPi) / 3);
+  linear[0][0] = std::sqrt(4 * static_cast<float>(kPi));
   linear[0][sh::index(1, 0)] = 0.5f * k1;
   linear[0][sh::index(1, 1)] = 0.25f * k1;
   for (double s : {0.05, 0.4, 0.8}) {
@@ -113,7 +113,7 @@ TEST(AverageRadianceTable, ConstantRadianceAveragesToItselfAndLinearOnesMatchEq1
   }
   // A far SL (sin -> 0) weights its surface by the clamped cosine about the receiver direction.
   const sh::Zonal<4> w0 = table.weights(0.0f), cc = sh::zh_clamped_cosine<4>();
-  for (int l = 0; l < 4; ++l) EXPECT_NEAR(w0[l], cc[l] / static_cast<float>(kPiD), 2e-4f) << l;
+  for (int l = 0; l < 4; ++l) EXPECT_NEAR(w0[l], cc[l] / static_cast<float>(kPi), 2e-4f) << l;
 }
 
 // The radiance averaged over the solid angle the SL subtends at the receiver (eq. 15 with
@@ -132,7 +132,7 @@ double cone_average(double s, const glm::dvec3& to_receiver, double a, double b,
     const double z = c0 + (1 - c0) * (i + 0.5) / rows;  // uniform in solid angle
     const double r = std::sqrt(std::max(0.0, 1 - z * z));
     for (int j = 0; j < cols; ++j) {
-      const double phi = 2 * kPiD * (j + 0.5) / cols;
+      const double phi = 2 * kPi * (j + 0.5) / cols;
       const glm::dvec3 w = z * axis + r * std::cos(phi) * u + r * std::sin(phi) * v;
       // Nearest hit of p + t w with the sphere |x| = s.
       const double bb = glm::dot(p, w), cc = glm::dot(p, p) - s * s;
@@ -150,8 +150,8 @@ TEST(AverageRadianceTable, SolidAngleWeightIsTheConeAverageAndCosineApproximates
   const AverageRadianceTable<4> cosine(AverageRadianceWeight::kCosine);
   const AverageRadianceTable<4> solid(AverageRadianceWeight::kSolidAngle);
   sh::CoeffsRgb<4> linear{};
-  const float k1 = std::sqrt(4 * static_cast<float>(kPiD) / 3);
-  linear[0][0] = std::sqrt(4 * static_cast<float>(kPiD));
+  const float k1 = std::sqrt(4 * static_cast<float>(kPi) / 3);
+  linear[0][0] = std::sqrt(4 * static_cast<float>(kPi));
   linear[0][sh::index(1, 0)] = 0.5f * k1;
   linear[0][sh::index(1, 1)] = 0.25f * k1;
   const glm::dvec3 t = glm::normalize(glm::dvec3(0.3, -0.2, 0.9));

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "common/constants.h"
 #include "penumbra/systems/spherical_lights/reflector_samples.h"
-#include "test_constants.h"
 
 namespace penumbra::spherical_lights {
 namespace {

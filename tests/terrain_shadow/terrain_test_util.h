@@ -5,19 +5,16 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
-#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "common/constants.h"
 #include "penumbra/assets/procedural.h"
 #include "penumbra/data/height_field.h"
 #include "penumbra/sh/basis.h"
 
 namespace penumbra::terrain_shadow {
-
-// Used unqualified by the tests (one definition, so that a unity build sees one).
-inline constexpr float kPi = std::numbers::pi_v<float>;
 
 // Rec. 709 luminance of linear RGB.
 inline float luminance(const glm::vec3& c) {
