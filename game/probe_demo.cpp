@@ -65,7 +65,7 @@ using components::Terrain;
 using components::Transform;
 using components::VertexLighting;
 
-constexpr int kBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
+constexpr int kCloudBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
 
 int sky_shift(float rotation, int w) {
   const float step = 2 * std::numbers::pi_v<float> / static_cast<float>(w);
@@ -210,7 +210,7 @@ glm::vec3 cell_centre(const data::ProbeCloud& c, std::int32_t cell) {
   return s / 3.0f + (l > 0 ? n / l : glm::vec3(0.0f)) * (size / 3.0f);
 }
 
-void debug_view(ecs::World& w) {
+void probe_debug_view(ecs::World& w) {
   const ProbeDebugView& view = w.resource<const ProbeDebugView>();
   const probe_cloud::ProbeWalkState& state = w.resource<const probe_cloud::ProbeWalkState>();
   const probe_cloud::ProbeTetWalk* walk = state.walk.get();
@@ -311,7 +311,7 @@ void populate_probe_demo(ecs::World& world, const std::string& data_dir,
     positions.emplace_back(xy, terrain_height(*terrain, xy) + p.z);
   }
   probe_cloud::ProbeCloudBuildSettings build;
-  build.bands = kBands;
+  build.bands = kCloudBands;
   auto data = std::make_shared<ProbeSkyBake::Data>();
   data->cloud = probe_cloud::build_probe_cloud(positions, {}, build);
 
@@ -403,7 +403,7 @@ void add_probe_demo_systems(jobs::Schedule& s) {
   s.add_task("demo_probe_shade", [](jobs::SystemContext& ctx) { shade(ctx.world()); })
       .reads<ProbeLighting, Transform, ProbeShadedMesh, EnvironmentLight>()
       .writes<VertexLighting>();
-  s.add_task("demo_probe_debug", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
+  s.add_task("demo_probe_debug", [](jobs::SystemContext& ctx) { probe_debug_view(ctx.world()); })
       .reads<ProbeDebugView, probe_cloud::ProbeWalkState, ProbeAnchor, ProbeCloudView>()
       .writes<DebugLines, ProbeWalkTrace>();
 }

@@ -16,8 +16,8 @@
 namespace penumbra::game {
 namespace {
 
-constexpr int kBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
-constexpr int kCoeffs = kBands * kBands;
+constexpr int kBakeBands = 3;  // the cloud's ([Cupisz12]; data::kProbeDefaultBands)
+constexpr int kCoeffs = kBakeBands * kBakeBands;
 
 // FNV-1a 64 over a sequence of byte ranges (assets/checksum.h's constants).
 struct Hasher {
@@ -54,11 +54,11 @@ std::vector<float> bake_step(const ProbeSkyBakeInputs& in, std::span<const glm::
   o.samples = in.samples;
   o.bounce = in.bounce;
   o.seed = in.seed;  // the same streams at every step: the noise moves with the sky, not per step
-  const auto est = reference::radiance_sh<kBands>(scene, positions, o);
+  const auto est = reference::radiance_sh<kBakeBands>(scene, positions, o);
   std::vector<float> out(positions.size() * 3 * kCoeffs);
   for (std::size_t p = 0; p < est.size(); ++p)
     for (int c = 0; c < 3; ++c) {
-      const sh::Coeffs<kBands> e = sh::irradiance_convolve<kBands>(est[p].mean[c]);
+      const sh::Coeffs<kBakeBands> e = sh::irradiance_convolve<kBakeBands>(est[p].mean[c]);
       std::memcpy(&out[(p * 3 + static_cast<std::size_t>(c)) * kCoeffs], e.data(),
                   sizeof(float) * kCoeffs);
     }
@@ -105,7 +105,7 @@ ProbeSkySteps bake_probe_sky_steps(const ProbeSkyBakeInputs& in, const data::Pro
                                    const std::filesystem::path& cache_dir,
                                    std::span<const int> which) {
   check(in);
-  if (cloud.bands != kBands)
+  if (cloud.bands != kBakeBands)
     throw std::invalid_argument("probe sky bake: the cloud must have 3 bands");
   const auto t0 = std::chrono::steady_clock::now();
   ProbeSkySteps out;
@@ -129,7 +129,7 @@ ProbeSkySteps bake_probe_sky_steps(const ProbeSkyBakeInputs& in, const data::Pro
     if (!file.empty() && std::filesystem::exists(file)) {
       try {
         data::ProbeCloud c = assets::load_probe_cloud_file(file);
-        if (c.bands == kBands && c.positions == cloud.positions) {
+        if (c.bands == kBakeBands && c.positions == cloud.positions) {
           sh = std::move(c.sh);
           ++out.loaded;
           continue;

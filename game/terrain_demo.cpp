@@ -156,7 +156,7 @@ bool pick_texel(const Camera& c, const HorizonProbe& probe, const Terrain& t, in
 
 // The debug geometry, as components for the render extract: the light as a wire sphere, and
 // the horizon wedges (and normal) of the texel under the probe as the terrain's DebugLines.
-void debug_view(ecs::World& w) {
+void terrain_debug_view(ecs::World& w) {
   w.query<const SphericalLight, DebugSphere>().each([&](const SphericalLight& l, DebugSphere& s) {
     const glm::vec3 c = l.radiance / std::max({l.radiance.x, l.radiance.y, l.radiance.z, 1e-6f});
     s = {l.position, l.radius, c * 4.0f};
@@ -269,7 +269,7 @@ void add_terrain_demo_systems(jobs::Schedule& s, const TerrainDemoConfig& config
   terrain_shadow::add_terrain_shadow_systems(s);
   blocker_accumulation::add_blocker_systems(s);
   spherical_lights::add_spherical_light_systems(s);
-  s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { debug_view(ctx.world()); })
+  s.add_task("demo_debug_view", [](jobs::SystemContext& ctx) { terrain_debug_view(ctx.world()); })
       .reads<Camera, Terrain, TerrainHorizons, SphericalLight, HorizonProbe>()
       .writes<DebugSphere, DebugLines>();
   systems::add_render_extract(s);

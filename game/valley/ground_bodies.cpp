@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "penumbra/data/finite.h"
 #include "penumbra/data/height_field.h"
 #include "random_bits.h"
 
@@ -20,9 +21,7 @@ using detail::unit_float;
 // sixteenth of it in the worst chain of three.
 constexpr int kContactPasses = 4;
 
-bool finite(glm::vec2 v) {
-  return std::isfinite(v.x) && std::isfinite(v.y);
-}
+using data::finite;
 
 // The field's world rectangle, shrunk by `margin`.
 void bounds(const components::Terrain& t, float margin, glm::vec2& lo, glm::vec2& hi) {

@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "../terrain_height.h"
+#include "penumbra/data/finite.h"
 #include "penumbra/data/height_field.h"
 #include "random_bits.h"
 
@@ -16,9 +17,7 @@ namespace {
 using detail::mix_bits;
 using detail::unit_float;
 
-bool finite(glm::vec2 v) {
-  return std::isfinite(v.x) && std::isfinite(v.y);
-}
+using data::finite;
 
 // World xy of the field's corners (sample (0, 0) and (w - 1, h - 1)).
 glm::vec2 field_min(const components::Terrain& t) {

@@ -222,6 +222,13 @@ struct Row {
   }
 };
 
+// printf's format f applied to one number (the cases' notes).
+inline std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
 inline std::optional<double> quotient(std::optional<double> a, std::optional<double> b) {
   if (!a || !b || *b == 0) return std::nullopt;
   return *a / *b;

@@ -408,11 +408,7 @@ std::optional<double> cpu_ns(const pb::Results& r, const std::string& key) {
   return std::nullopt;
 }
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+using pb::fmt;
 
 template <int N>
 void summarize_bands(const pb::Results& r, pb::Summary& s, double ns_per_fma) {

@@ -16,6 +16,12 @@ namespace penumbra::bench::blockers {
 
 namespace ba = penumbra::blocker_accumulation;
 
+// What the group's cases share: two worker threads (the machine's cores), blocks of 1,024
+// receivers per parallel_for task, and issue 11's goal (100,000 receivers x 400 blockers in 30 ms).
+inline constexpr int kThreads = 2;
+inline constexpr std::size_t kBlock = 1024;
+inline constexpr double kGoalMs = 30;
+
 std::vector<glm::vec3> receiver_grid();
 std::vector<ba::WorldSphere> scattered_spheres(int count);
 double view_flops();

@@ -50,10 +50,10 @@ namespace ba = penumbra::blocker_accumulation;
 namespace sh = penumbra::sh;
 
 constexpr int N = 4;  // kSystemBands
-constexpr int kThreads = 2;
-constexpr std::size_t kBlock = 1024;
+using bb::kBlock;
+using bb::kThreads;
 constexpr std::size_t kStride = 50;  // accuracy and squarings subsample
-constexpr double kGoalMs = 30;       // issue 11: 100,000 receivers x 400 blockers, 2 cores
+using bb::kGoalMs;
 
 using Scene = bb::FrameScene;  // groups empty: every sphere its own group
 
@@ -115,7 +115,7 @@ const ba::ReceiverClusters<N>& clusters() {
   return rc;
 }
 
-struct Analysis {
+struct FrameAnalysis {
   double views = 0, added = 0;  // per receiver
   double flops = 0;             // per frame
   double squares = 0;           // mean HYB squarings
@@ -124,7 +124,7 @@ struct Analysis {
 
 // Replays accumulate() (blocker_accumulation.cpp) at every receiver: which view_blocker calls
 // and log-SH additions it makes, and the depth limit's evaluations.
-Analysis analyse(const Scene& scene, Method m) {
+FrameAnalysis analyse(const Scene& scene, Method m) {
   const Fixture& f = fixture();
   const ba::BlockerSettings settings = settings_for(m);
   ba::BlockerAccumulation<N> acc(settings), all(settings_for(Method::kAllPairs));
@@ -147,7 +147,7 @@ Analysis analyse(const Scene& scene, Method m) {
   }
   const double views = static_cast<double>(counts.views), added = static_cast<double>(counts.adds),
                depth_evals = static_cast<double>(counts.depth_evaluations);
-  Analysis a;
+  FrameAnalysis a;
   const double receivers = static_cast<double>(f.points.size());
   a.views = views / receivers;
   a.added = added / receivers;
@@ -201,10 +201,10 @@ void BM_Frame(benchmark::State& state, std::string scene_name, Method m) {
     benchmark::DoNotOptimize(out.data());
     benchmark::ClobberMemory();
   }
-  static std::map<std::pair<std::string, Method>, Analysis> cache;
+  static std::map<std::pair<std::string, Method>, FrameAnalysis> cache;
   auto it = cache.find({scene_name, m});
   if (it == cache.end()) it = cache.emplace(std::pair(scene_name, m), analyse(scene, m)).first;
-  const Analysis& a = it->second;
+  const FrameAnalysis& a = it->second;
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.points.size()));
   state.counters["receivers"] = static_cast<double>(f.points.size());
   state.counters["views_per_receiver"] = a.views;
@@ -245,11 +245,7 @@ constexpr FrameCase kCases[] = {
     {"scattered:400", Method::kClusters}, {"objects:400", Method::kClusters},
 };
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+using pb::fmt;
 
 }  // namespace
 

@@ -33,8 +33,6 @@ using bench_json::jnum;
 using bench_json::jstr;
 using bench_json::load_average;
 
-constexpr double kThreads = 2;
-constexpr double kGoalMs = 30;              // issue 11: 100,000 receivers x 400 blockers, 2 cores
 constexpr double kGoalReceivers = 100'000;  // the goal's receivers
 constexpr double kErrorBudget = 0.02;       // best trade-off: rel RMS vs all pairs at most 2%
 constexpr double kErrorLimit = 20;          // the chart's error axis, percent

@@ -50,8 +50,8 @@ namespace bb = penumbra::bench::blockers;
 namespace ba = penumbra::blocker_accumulation;
 namespace sh = penumbra::sh;
 
-constexpr int kThreads = 2;
-constexpr std::size_t kBlock = 1024;
+using bb::kBlock;
+using bb::kThreads;
 constexpr std::size_t kSquaresStride = 50;
 constexpr int kGridSide = 316;  // the frames' grid (blocker_bench.cpp)
 constexpr int kWindowSide = 158;
@@ -135,7 +135,7 @@ const std::vector<glm::vec3>& all_pairs_output(const std::string& scene,
   return cache.emplace(scene, std::move(out)).first->second;
 }
 
-struct Analysis {
+struct SweepAnalysis {
   double views = 0, added = 0, depth_evals = 0;  // per receiver
   double squares = 0;
   double rel_rms = 0, max_rel = 0;
@@ -157,11 +157,11 @@ std::pair<double, double> difference(const std::vector<glm::vec3>& out,
 }
 
 template <int N>
-Analysis analyse(const bb::SweepPoint& p, const ba::BlockerAccumulation<N>& acc,
-                 const ba::ReceiverClusters<N>* clusters, const std::vector<glm::vec3>& out) {
+SweepAnalysis analyse(const bb::SweepPoint& p, const ba::BlockerAccumulation<N>& acc,
+                      const ba::ReceiverClusters<N>* clusters, const std::vector<glm::vec3>& out) {
   const Receivers& w = window();
   const double receivers = static_cast<double>(w.points.size());
-  Analysis a;
+  SweepAnalysis a;
   if (clusters) {
     ba::ReceiverClusterCounts cc;
     std::vector<glm::vec3> scratch(w.points.size());
@@ -212,11 +212,11 @@ void BM_Sweep(benchmark::State& state, bb::SweepPoint p) {
     benchmark::ClobberMemory();
   }
   if (p.method == "all_pairs") all_pairs_output<N>(p.scene, &out);
-  static std::map<std::string, Analysis> cache;
+  static std::map<std::string, SweepAnalysis> cache;
   auto it = cache.find(p.key);
   if (it == cache.end())
     it = cache.emplace(p.key, analyse<N>(p, acc, clusters ? &*clusters : nullptr, out)).first;
-  const Analysis& a = it->second;
+  const SweepAnalysis& a = it->second;
   const double receivers = static_cast<double>(w.points.size());
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(w.points.size()));
   state.counters["receivers"] = receivers;

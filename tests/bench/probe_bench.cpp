@@ -90,11 +90,7 @@ constexpr float kSpeed = 5.0f;  // m/s
 constexpr float kDt = 1.0f / 60.0f;
 constexpr int kBands = 3;
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+using pb::fmt;
 
 // --- Point sets -----------------------------------------------------------------------------
 

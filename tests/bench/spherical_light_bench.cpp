@@ -584,11 +584,7 @@ constexpr SweepCase kSweep[] = {{"receivers", 0.0f, 0},       {"receivers", 0.02
                                 {"clusters", 0.05f, 0.25f},   {"clusters", 0.02f, kFarRatio},
                                 {"clusters", 0.1f, kFarRatio}};
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+using pb::fmt;
 
 void register_benchmarks() {
   const pb::Timing cpu{.clock = pb::Timing::Clock::kCpu, .unit = benchmark::kMicrosecond};

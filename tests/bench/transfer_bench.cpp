@@ -18,10 +18,10 @@
 namespace penumbra::terrain_bench {
 namespace {
 
-constexpr int N = 4;
 constexpr int kAzimuths = 32;
 
 void BM_Transfer(benchmark::State& state, bool exact) {
+  constexpr int N = 4;
   const auto field = scene_field(kSize);
   ts::TerrainShadowing<N> shadowing;
   shadowing.update(field, tbr::kHeightScale);

@@ -11,6 +11,9 @@
 
 namespace penumbra::assets::detail {
 
+// Both formats end in an FNV-1a 64-bit checksum of every byte before it.
+inline constexpr std::size_t kChecksumBytes = 8;
+
 struct ByteWriter {
   std::vector<unsigned char>& out;
   std::size_t at = 0;

@@ -18,7 +18,7 @@
 namespace penumbra::assets {
 namespace {
 
-bool is_space(unsigned char c) {
+bool is_pgm_space(unsigned char c) {
   return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f';
 }
 
@@ -30,7 +30,7 @@ class HeaderReader {
 
   void skip_space_and_comments() {
     while (pos < b_.size()) {
-      if (is_space(b_[pos])) {
+      if (is_pgm_space(b_[pos])) {
         ++pos;
       } else if (b_[pos] == '#') {
         while (pos < b_.size() && b_[pos] != '\n' && b_[pos] != '\r') ++pos;
@@ -52,7 +52,7 @@ class HeaderReader {
         throw LoadError(name_,
                         std::string("bad header: ") + what + " exceeds " + std::to_string(max));
     }
-    if (pos < b_.size() && !is_space(b_[pos]) && b_[pos] != '#')
+    if (pos < b_.size() && !is_pgm_space(b_[pos]) && b_[pos] != '#')
       throw LoadError(name_, std::string("bad header: garbage after ") + what);
     return static_cast<int>(v);
   }
@@ -96,7 +96,7 @@ PgmImage parse_pgm(std::span<const unsigned char> bytes, const std::string& name
     throw LoadError(name, "not a binary PGM (magic is not P5)");
   HeaderReader r(bytes, name);
   r.pos = 2;
-  if (r.pos < bytes.size() && !is_space(bytes[r.pos]) && bytes[r.pos] != '#')
+  if (r.pos < bytes.size() && !is_pgm_space(bytes[r.pos]) && bytes[r.pos] != '#')
     throw LoadError(name, "bad header: garbage after P5");
   PgmImage img;
   img.width = r.number("width", 1 << 30);
@@ -109,7 +109,7 @@ PgmImage parse_pgm(std::span<const unsigned char> bytes, const std::string& name
     throw LoadError(name, "image too large (" + std::to_string(img.width) + "x" +
                               std::to_string(img.height) + ")");
   if (r.pos >= bytes.size()) throw LoadError(name, "truncated header: no whitespace after maxval");
-  if (!is_space(bytes[r.pos])) throw LoadError(name, "bad header: no whitespace after maxval");
+  if (!is_pgm_space(bytes[r.pos])) throw LoadError(name, "bad header: no whitespace after maxval");
   ++r.pos;  // exactly one whitespace byte, then the raster
   const std::size_t bps = img.maxval < 256 ? 1 : 2;
   const std::size_t need = count * bps, have = bytes.size() - r.pos;

@@ -7,6 +7,7 @@
 #include "byte_io.h"
 #include "file_io.h"
 #include "penumbra/assets/load_error.h"
+#include "penumbra/data/finite.h"
 
 namespace penumbra::assets {
 namespace {
@@ -16,10 +17,10 @@ using detail::get_i32;
 using detail::get_u32;
 using detail::get_u64;
 
-constexpr unsigned char kMagic[4] = {'P', 'C', 'L', 'D'};
-constexpr std::size_t kHeaderBytes = 24;
+constexpr unsigned char kCloudMagic[4] = {'P', 'C', 'L', 'D'};
+constexpr std::size_t kCloudHeaderBytes = 24;
 constexpr std::size_t kCellBytes = 32 + 64;  // indices + transform
-constexpr std::size_t kChecksumBytes = 8;
+using detail::kChecksumBytes;
 
 bool bands_ok(std::int64_t bands) {
   return bands >= data::kProbeMinBands && bands <= data::kProbeMaxBands;
@@ -44,9 +45,7 @@ std::string count_problem(std::uint64_t probes, std::uint64_t cells, std::uint64
   return {};
 }
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using data::finite;
 
 // Everything both the writer and the reader require of the contents (array sizes agree, which
 // the reader's layout guarantees); "" when valid.
@@ -106,7 +105,7 @@ std::string problem(const data::ProbeCloud& c) {
 
 std::uint64_t probe_cloud_file_size(int bands, std::uint64_t probes, std::uint64_t cells) {
   const auto b2 = static_cast<std::uint64_t>(bands) * static_cast<std::uint64_t>(bands);
-  return kHeaderBytes + probes * (24 + 12 * b2) + kCellBytes * cells + kChecksumBytes;
+  return kCloudHeaderBytes + probes * (24 + 12 * b2) + kCellBytes * cells + kChecksumBytes;
 }
 
 std::vector<unsigned char> encode_probe_cloud_file(const data::ProbeCloud& cloud) {
@@ -115,7 +114,7 @@ std::vector<unsigned char> encode_probe_cloud_file(const data::ProbeCloud& cloud
   std::vector<unsigned char> out(static_cast<std::size_t>(
       probe_cloud_file_size(cloud.bands, cloud.positions.size(), cloud.cells.size())));
   detail::ByteWriter w{out};
-  w.bytes(kMagic, 4);
+  w.bytes(kCloudMagic, 4);
   w.u32(kProbeCloudFileVersion);
   w.u32(static_cast<std::uint32_t>(cloud.bands));
   w.u32(static_cast<std::uint32_t>(cloud.positions.size()));
@@ -141,13 +140,14 @@ data::ProbeCloud parse_probe_cloud_file(std::span<const unsigned char> bytes,
                                         const std::string& name) {
   const auto fail = [&](const std::string& reason) { throw LoadError(name, reason); };
   if (bytes.size() < 8) fail("truncated: " + std::to_string(bytes.size()) + " bytes, no header");
-  if (std::memcmp(bytes.data(), kMagic, 4) != 0) fail("not a probe cloud file (magic is not PCLD)");
+  if (std::memcmp(bytes.data(), kCloudMagic, 4) != 0)
+    fail("not a probe cloud file (magic is not PCLD)");
   const std::uint32_t version = get_u32(bytes.data() + 4);
   if (version != kProbeCloudFileVersion)
     fail("unsupported version " + std::to_string(version) + " (expected " +
          std::to_string(kProbeCloudFileVersion) + ")");
-  if (bytes.size() < kHeaderBytes)
-    fail("truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(kHeaderBytes) +
+  if (bytes.size() < kCloudHeaderBytes)
+    fail("truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(kCloudHeaderBytes) +
          " header bytes");
   const std::uint32_t bands = get_u32(bytes.data() + 8);
   const std::uint32_t n = get_u32(bytes.data() + 12);
@@ -168,7 +168,7 @@ data::ProbeCloud parse_probe_cloud_file(std::span<const unsigned char> bytes,
   data::ProbeCloud c;
   c.bands = static_cast<int>(bands);
   c.inner_count = inner;
-  const unsigned char* p = bytes.data() + kHeaderBytes;
+  const unsigned char* p = bytes.data() + kCloudHeaderBytes;
   const auto vec3 = [&p] {
     const glm::vec3 v(get_f32(p), get_f32(p + 4), get_f32(p + 8));
     p += 12;

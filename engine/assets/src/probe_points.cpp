@@ -14,7 +14,8 @@
 namespace penumbra::assets {
 namespace {
 
-bool is_space(char c) {
+// Whitespace inside a line (a newline ends the line, not a token).
+bool is_blank(char c) {
   return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
 }
 
@@ -49,10 +50,10 @@ ProbePoints parse_probe_points(std::string_view text, int bands, const std::stri
     values.clear();
     std::size_t at = 0;
     while (true) {
-      while (at < line.size() && is_space(line[at])) ++at;
+      while (at < line.size() && is_blank(line[at])) ++at;
       if (at == line.size()) break;
       std::size_t end = at;
-      while (end < line.size() && !is_space(line[end])) ++end;
+      while (end < line.size() && !is_blank(line[end])) ++end;
       const std::string_view token = line.substr(at, end - at);
       at = end;
       // from_chars takes no leading '+'; a plain text file may well have one.

@@ -12,10 +12,10 @@
 namespace penumbra::assets {
 namespace {
 
-constexpr unsigned char kMagic[4] = {'P', 'S', 'P', 'H'};
-constexpr std::size_t kHeaderBytes = 36;  // up to and including the name length
+constexpr unsigned char kSphereMagic[4] = {'P', 'S', 'P', 'H'};
+constexpr std::size_t kSphereHeaderBytes = 36;  // up to and including the name length
 constexpr std::size_t kSphereBytes = 20;
-constexpr std::size_t kChecksumBytes = 8;
+using detail::kChecksumBytes;
 
 using detail::ByteWriter;
 using detail::get_u32;
@@ -82,10 +82,10 @@ const char* sphere_fit_method_name(SphereFitMethod method) {
 std::vector<unsigned char> encode_sphere_file(const SphereSetFile& set) {
   if (const std::string p = problem(set); !p.empty())
     throw std::invalid_argument("sphere file: " + p);
-  std::vector<unsigned char> out(kHeaderBytes + set.source_model.size() +
+  std::vector<unsigned char> out(kSphereHeaderBytes + set.source_model.size() +
                                  kSphereBytes * set.spheres.size() + kChecksumBytes);
   ByteWriter w{out};
-  w.bytes(kMagic, 4);
+  w.bytes(kSphereMagic, 4);
   w.u32(kSphereFileVersion);
   w.u32(static_cast<std::uint32_t>(set.spheres.size()));
   w.u32(static_cast<std::uint32_t>(set.method));
@@ -105,14 +105,15 @@ std::vector<unsigned char> encode_sphere_file(const SphereSetFile& set) {
 SphereSetFile parse_sphere_file(std::span<const unsigned char> bytes, const std::string& name) {
   const auto fail = [&](const std::string& reason) { throw LoadError(name, reason); };
   if (bytes.size() < 8) fail("truncated: " + std::to_string(bytes.size()) + " bytes, no header");
-  if (std::memcmp(bytes.data(), kMagic, 4) != 0) fail("not a sphere file (magic is not PSPH)");
+  if (std::memcmp(bytes.data(), kSphereMagic, 4) != 0)
+    fail("not a sphere file (magic is not PSPH)");
   const std::uint32_t version = get_u32(bytes.data() + 4);
   if (version != kSphereFileVersion)
     fail("unsupported version " + std::to_string(version) + " (expected " +
          std::to_string(kSphereFileVersion) + ")");
-  if (bytes.size() < kHeaderBytes)
-    fail("truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(kHeaderBytes) +
-         " header bytes");
+  if (bytes.size() < kSphereHeaderBytes)
+    fail("truncated: " + std::to_string(bytes.size()) + " of " +
+         std::to_string(kSphereHeaderBytes) + " header bytes");
   const std::uint32_t count = get_u32(bytes.data() + 8);
   const std::uint32_t name_len = get_u32(bytes.data() + 32);
   if (count > kMaxSphereFileSpheres)
@@ -121,7 +122,7 @@ SphereSetFile parse_sphere_file(std::span<const unsigned char> bytes, const std:
   if (name_len > kMaxSphereFileName)
     fail("source model name too long (" + std::to_string(name_len) + " bytes)");
   const std::size_t expected =
-      kHeaderBytes + name_len + kSphereBytes * std::size_t{count} + kChecksumBytes;
+      kSphereHeaderBytes + name_len + kSphereBytes * std::size_t{count} + kChecksumBytes;
   if (bytes.size() < expected)
     fail("truncated: " + std::to_string(bytes.size()) + " of " + std::to_string(expected) +
          " bytes for " + std::to_string(count) + " spheres");
@@ -134,9 +135,10 @@ SphereSetFile parse_sphere_file(std::span<const unsigned char> bytes, const std:
   set.method = static_cast<SphereFitMethod>(get_u32(bytes.data() + 12));
   set.outside_volume_ratio = std::bit_cast<double>(get_u64(bytes.data() + 16));
   set.coverage = std::bit_cast<double>(get_u64(bytes.data() + 24));
-  set.source_model.assign(reinterpret_cast<const char*>(bytes.data() + kHeaderBytes), name_len);
+  set.source_model.assign(reinterpret_cast<const char*>(bytes.data() + kSphereHeaderBytes),
+                          name_len);
   set.spheres.resize(count);
-  const unsigned char* p = bytes.data() + kHeaderBytes + name_len;
+  const unsigned char* p = bytes.data() + kSphereHeaderBytes + name_len;
   for (data::Sphere& s : set.spheres) {
     s.centre.x = std::bit_cast<float>(get_u32(p));
     s.centre.y = std::bit_cast<float>(get_u32(p + 4));

@@ -8,9 +8,9 @@
 
 namespace penumbra::ecs {
 namespace {
-constexpr std::size_t kAlign = 64;
+constexpr std::size_t kChunkAlign = 64;
 std::size_t align_up(std::size_t v) {
-  return (v + kAlign - 1) & ~(kAlign - 1);
+  return (v + kChunkAlign - 1) & ~(kChunkAlign - 1);
 }
 }  // namespace
 
@@ -19,7 +19,7 @@ Archetype::Archetype(std::uint32_t id, std::vector<TypeId> sorted_types)
   std::size_t row_bytes = sizeof(Entity);
   for (std::size_t c = 0; c < types_.size(); ++c) {
     const TypeInfo& info = type_info(types_[c]);
-    assert(info.align <= kAlign && "component alignment above 64 bytes is not supported");
+    assert(info.align <= kChunkAlign && "component alignment above 64 bytes is not supported");
     signature_.set(types_[c]);
     column_of_[types_[c]] = static_cast<std::int16_t>(c);
     infos_.push_back(&info);
@@ -35,7 +35,7 @@ Archetype::Archetype(std::uint32_t id, std::vector<TypeId> sorted_types)
     column_offset_.push_back(offset);
     offset = align_up(offset + column_size_[c] * rows);
   }
-  block_bytes_ = std::max<std::size_t>(offset, kAlign);
+  block_bytes_ = std::max<std::size_t>(offset, kChunkAlign);
 }
 
 Archetype::~Archetype() {
@@ -52,7 +52,7 @@ Archetype::~Archetype() {
 RowRef Archetype::push_back(Entity e, std::uint64_t tick) {
   if (chunks_.empty() || chunks_.back().count == capacity_) {
     Chunk chunk;
-    chunk.block = static_cast<std::byte*>(std::aligned_alloc(kAlign, block_bytes_));
+    chunk.block = static_cast<std::byte*>(std::aligned_alloc(kChunkAlign, block_bytes_));
     if (chunk.block == nullptr) throw std::bad_alloc();
     chunk.changed.assign(types_.size(), tick);
     chunks_.push_back(std::move(chunk));

@@ -12,7 +12,7 @@
 namespace penumbra::ecs {
 namespace {
 constexpr std::size_t kBlockBytes = 64 * 1024;
-constexpr std::size_t kAlign = 64;
+constexpr std::size_t kCommandAlign = 64;
 constexpr std::uint32_t kLocalBits = 24;
 }  // namespace
 
@@ -66,11 +66,12 @@ void CommandBuffer::record(std::uint64_t key, std::uint32_t seq, Op op, Entity t
 }
 
 void* CommandBuffer::allocate_payload(const TypeInfo& info) {
-  assert(info.align <= kAlign);
-  const std::size_t size = (std::max<std::size_t>(info.size, 1) + kAlign - 1) & ~(kAlign - 1);
+  assert(info.align <= kCommandAlign);
+  const std::size_t size =
+      (std::max<std::size_t>(info.size, 1) + kCommandAlign - 1) & ~(kCommandAlign - 1);
   if (blocks_.empty() || blocks_.back().used + size > blocks_.back().capacity) {
     const std::size_t capacity = std::max(kBlockBytes, size);
-    auto* data = static_cast<std::byte*>(std::aligned_alloc(kAlign, capacity));
+    auto* data = static_cast<std::byte*>(std::aligned_alloc(kCommandAlign, capacity));
     if (data == nullptr) throw std::bad_alloc();
     blocks_.push_back({data, 0, capacity});
   }

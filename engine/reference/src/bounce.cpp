@@ -22,11 +22,9 @@
 namespace penumbra::reference {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using detail::kInf;
 
-bool black(const glm::vec3& v) {
-  return v.x <= 0 && v.y <= 0 && v.z <= 0;
-}
+using detail::black;
 
 RgbEstimate estimate(const Scene& scene, const Receiver& r, std::size_t index,
                      const BounceOptions& o) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "penumbra/data/finite.h"
 #include "penumbra/reference/estimators.h"
 
 namespace penumbra::reference::detail {
@@ -32,8 +34,13 @@ inline double mis_weight(MisHeuristic h, double p, double q) {
   return p * p / (p * p + q * q);
 }
 
-inline bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+using data::finite;
+
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+// No light at all: every channel at or below zero.
+inline bool black(const glm::vec3& v) {
+  return v.x <= 0 && v.y <= 0 && v.z <= 0;
 }
 
 inline void check_options(const SamplingOptions& o, const char* fn) {

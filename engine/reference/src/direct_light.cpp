@@ -15,10 +15,8 @@
 
 namespace penumbra::reference::detail {
 namespace {
-constexpr float kInf = std::numeric_limits<float>::infinity();
-bool black(const glm::vec3& v) {
-  return v.x <= 0 && v.y <= 0 && v.z <= 0;
-}
+using detail::black;
+using detail::kInf;
 }  // namespace
 
 // Unbiased estimate of the direct irradiance (environment + lights) at x, unit normal n, with

@@ -12,7 +12,7 @@
 namespace penumbra::reference {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using detail::kInf;
 
 using detail::mis_weight;
 

@@ -19,12 +19,10 @@
 namespace penumbra::reference {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using detail::kInf;
 constexpr std::uint64_t kRadianceShSalt = 5;  // after common.h's four
 
-bool black(const glm::vec3& v) {
-  return v.x <= 0 && v.y <= 0 && v.z <= 0;
-}
+using detail::black;
 
 template <int N>
 using Acc = std::array<double, static_cast<std::size_t>(3 * N * N)>;

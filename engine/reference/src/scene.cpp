@@ -16,6 +16,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vec4.hpp>
 
+#include "common.h"
+#include "penumbra/data/finite.h"
+
 namespace penumbra::reference {
 namespace {
 
@@ -27,9 +30,7 @@ std::string label(const char* kind, std::size_t i, const std::string& name) {
 [[noreturn]] void fail(const std::string& what, const std::string& why) {
   throw std::invalid_argument("reference::Scene: " + what + ": " + why);
 }
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using data::finite;
 std::string str(const glm::vec3& v) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%g, %g, %g)", v.x, v.y, v.z);
@@ -48,9 +49,7 @@ void check_albedo(const std::string& what, const glm::vec3& a) {
     if (!(a[c] >= 0 && a[c] <= 1)) fail(what, "albedo " + str(a) + " must be finite and in [0, 1]");
   }
 }
-bool black(const glm::vec3& a) {
-  return a.x <= 0 && a.y <= 0 && a.z <= 0;
-}
+using detail::black;
 void validate(const SceneDesc& d) {
   for (std::size_t i = 0; i < d.height_fields.size(); ++i) {
     const auto& h = d.height_fields[i];

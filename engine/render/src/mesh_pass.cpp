@@ -9,7 +9,7 @@
 
 namespace penumbra::render {
 namespace {
-struct Push {
+struct MeshPush {
   float model[16];
   float albedo[4];    // rgb: albedo
   float specular[4];  // rgb: Blinn reflectance, a: exponent (environment shading only)
@@ -21,7 +21,7 @@ MeshPass::MeshPass(Device& device, VkFormat color_format, VkFormat depth_format)
   const VkDescriptorSetLayoutBinding bindings[] = {
       {0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1,
        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
-  layout_ = create_pipeline_layout(device, bindings, sizeof(Push));
+  layout_ = create_pipeline_layout(device, bindings, sizeof(MeshPush));
   PipelineDesc d;
   d.vertex = Shader::kMeshVert;
   d.fragment = Shader::kMeshFrag;
@@ -45,7 +45,7 @@ MeshPass::MeshPass(Device& device, VkFormat color_format, VkFormat depth_format)
        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, EnvironmentShading::kMaxSources,
        VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
-  env_layout_ = create_pipeline_layout(device, env_bindings, sizeof(Push));
+  env_layout_ = create_pipeline_layout(device, env_bindings, sizeof(MeshPush));
   d.vertex = Shader::kMeshEnvVert;
   d.fragment = Shader::kMeshEnvFrag;
   d.layout = env_layout_.get();
@@ -195,7 +195,7 @@ void MeshPass::draw(FrameContext& ctx) {
     const VkDeviceSize offsets[] = {0, lit ? d.lighting.offset : 0};
     vkCmdBindVertexBuffers(ctx.cmd, 0, 2, buffers, offsets);
     vkCmdBindIndexBuffer(ctx.cmd, d.mesh->indices.get(), 0, VK_INDEX_TYPE_UINT32);
-    Push push;
+    MeshPush push;
     std::memcpy(push.model, glm::value_ptr(d.draw->transform), sizeof push.model);
     push.albedo[0] = d.draw->albedo.x;
     push.albedo[1] = d.draw->albedo.y;
@@ -234,7 +234,7 @@ void MeshPass::draw_environment(FrameContext& ctx) {
     const VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(ctx.cmd, 0, 1, &buffer, &offset);
     vkCmdBindIndexBuffer(ctx.cmd, d.mesh->indices.get(), 0, VK_INDEX_TYPE_UINT32);
-    Push push;
+    MeshPush push;
     std::memcpy(push.model, glm::value_ptr(d.draw->transform), sizeof push.model);
     const glm::vec3& a = d.draw->albedo;
     const glm::vec3& s = d.draw->specular;

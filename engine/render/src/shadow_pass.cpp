@@ -9,6 +9,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "penumbra/data/finite.h"
 #include "penumbra/render/mesh_pass.h"
 #include "penumbra/render/vk_check.h"
 
@@ -27,9 +28,7 @@ struct EnvironmentBlock {
 };
 static_assert(sizeof(EnvironmentBlock) == 3 * 64 + 6 * 16 + 16 + 72 * 16);
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using data::finite;
 }  // namespace
 
 std::string check_environment_shading(const EnvironmentShading& s) {

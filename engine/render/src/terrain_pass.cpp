@@ -13,7 +13,7 @@ namespace penumbra::render {
 namespace {
 constexpr VkFormat kLightingFormat = VK_FORMAT_R8G8B8A8_UNORM;  // RGBM (lighting_texels.h)
 
-struct Push {
+struct TerrainPush {
   float origin_cell[4];
   float albedo[4];         // as shown: 1 in the lighting-only view
   float lighting_size[4];  // xy: texels of the bound lighting texture (1x1 placeholder:
@@ -46,7 +46,7 @@ TerrainPass::TerrainPass(Device& device, VkFormat color_format, VkFormat depth_f
        VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, nullptr},
       {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
       {2, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, VK_SHADER_STAGE_FRAGMENT_BIT, nullptr}};
-  layout_ = create_pipeline_layout(device, bindings, sizeof(Push));
+  layout_ = create_pipeline_layout(device, bindings, sizeof(TerrainPush));
   PipelineDesc d;
   d.vertex = Shader::kTerrainVert;
   d.fragment = Shader::kTerrainFrag;
@@ -157,10 +157,10 @@ void TerrainPass::draw(FrameContext& ctx) {
   const glm::vec3 albedo = ctx.packet.view.lighting_only ? glm::vec3(1.0f) : t.albedo;
   const float lit_w = lighting_src_ ? static_cast<float>(lit_w_) : 1.0f;
   const float lit_h = lighting_src_ ? static_cast<float>(lit_h_) : 1.0f;
-  Push push{{t.origin.x, t.origin.y, t.origin.z, cell},
-            {albedo.x, albedo.y, albedo.z, 0.0f},
-            {lit_w, lit_h, lighting_src_ ? lighting_scale_ : 1.0f, 0.0f},
-            {grid_w_, grid_h_, 0, 0}};
+  TerrainPush push{{t.origin.x, t.origin.y, t.origin.z, cell},
+                   {albedo.x, albedo.y, albedo.z, 0.0f},
+                   {lit_w, lit_h, lighting_src_ ? lighting_scale_ : 1.0f, 0.0f},
+                   {grid_w_, grid_h_, 0, 0}};
   vkCmdPushConstants(ctx.cmd, layout_.get(),
                      VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof push,
                      &push);

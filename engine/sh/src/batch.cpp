@@ -9,6 +9,7 @@
 
 #include "../generated/basis_generated.h"
 #include "../generated/product_generated.h"
+#include "band0.h"
 #include "penumbra/sh/lanes.h"
 
 namespace penumbra::sh {
@@ -18,7 +19,7 @@ namespace g = generated;
 static_assert(kLaneCount == kBatch);
 using Mask = LaneMask;
 
-constexpr float kY0 = 0.28209479177387814f;  // y_0 = 1 / sqrt(4 pi), as exp_log.cpp
+using detail::kY0;
 
 inline Mask finite(Lanes x) {  // std::isfinite per lane: |x| <= FLT_MAX (false for NaN)
   Mask xi;

@@ -5,13 +5,14 @@
 #include <numbers>
 #include <vector>
 
+#include "band0.h"
 #include "penumbra/sh/product.h"
 #include "penumbra/sh/projection.h"
 #include "penumbra/sh/zh.h"
 
 namespace penumbra::sh {
 namespace {
-constexpr float kY0 = 0.28209479177387814f;  // y_0 = 1 / sqrt(4 pi)
+using detail::kY0;  // y_0 = 1 / sqrt(4 pi)
 
 template <int N>
 const SphereQuadrature& quadrature() {

@@ -26,6 +26,7 @@
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/data/finite.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/systems/blocker_accumulation/receiver_round_robin.h"
 #include "penumbra/systems/blocker_accumulation/terrain_receivers.h"
@@ -51,12 +52,7 @@ std::string entity_name(ecs::Entity e) {
   return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
 }
 
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r)
-      if (!std::isfinite(m[c][r])) return false;
-  return true;
-}
+using data::finite;
 
 sh::CoeffsRgb<N> environment_radiance(ecs::World& w) {
   sh::CoeffsRgb<N> radiance{};

@@ -12,6 +12,7 @@
 #include "penumbra/components/probe_anchor.h"
 #include "penumbra/components/probe_lighting.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/data/finite.h"
 
 namespace penumbra::probe_cloud {
 namespace {
@@ -23,16 +24,14 @@ using components::ProbeLighting;
 using components::Transform;
 
 using LightingSh = sh::CoeffsRgb<ProbeLighting::kBands>;
-constexpr std::size_t kMaxErrors = 20;     // entities named per frame in the report
-constexpr std::size_t kPrefetchRows = 32;  // walk_chunk hints the rows' lines this far ahead
+constexpr std::size_t kMaxNamedEntities = 20;  // entities named per frame in the report
+constexpr std::size_t kPrefetchRows = 32;      // walk_chunk hints the rows' lines this far ahead
 
 std::string entity_name(ecs::Entity e) {
   return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
 }
 
-bool finite(const glm::vec3& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
+using data::finite;
 
 bool same(const ProbeWalkSettings& a, const ProbeWalkSettings& b) {
   return a.max_steps == b.max_steps && a.far_cells == b.far_cells;
@@ -88,7 +87,7 @@ struct Partial {
   std::size_t entities = 0, unchanged = 0, fallbacks = 0, steps = 0;
   int max_steps = 0;
   std::size_t rejected = 0;
-  std::vector<std::string> errors;  // the first kMaxErrors of this chunk
+  std::vector<std::string> errors;  // the first kMaxNamedEntities of this chunk
 };
 
 void walk_chunk(jobs::SystemContext& ctx,
@@ -128,7 +127,7 @@ void walk_chunk(jobs::SystemContext& ctx,
     ProbeAnchor& a = anchors[i];
     const glm::vec3 p = glm::vec3(transforms[i].world * glm::vec4(a.offset, 1.0f));
     if (!finite(p)) {
-      if (out.rejected++ >= kMaxErrors) continue;
+      if (out.rejected++ >= kMaxNamedEntities) continue;
       out.errors.push_back(entity_name(entities[i]) +
                            ": probe sample point is not finite (transform or anchor offset); "
                            "skipped, its lighting kept");
@@ -206,7 +205,7 @@ void add_probe_cloud_systems(jobs::Schedule& schedule) {
       report.max_steps = std::max(report.max_steps, p.max_steps);
       report.rejected += p.rejected;
       for (std::string& e : p.errors)
-        if (report.errors.size() < kMaxErrors) report.errors.push_back(std::move(e));
+        if (report.errors.size() < kMaxNamedEntities) report.errors.push_back(std::move(e));
     }
     ctx.report_work(report.entities, report.unchanged);  // walked; not moved, same cloud
     if (report.rejected > report.errors.size())

@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "penumbra/data/finite.h"
 #include "penumbra/systems/probe_cloud/cell_weights.h"
 
 namespace penumbra::probe_cloud {
@@ -21,9 +22,7 @@ namespace {
 constexpr std::size_t kMaxGridCells = std::size_t{1} << 21;
 constexpr float kVertexSnap = 1e-6f;  // a weight this close to 1 is that probe exactly
 
-bool finite(const glm::vec3& p) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
-}
+using data::finite;
 
 std::string vec_str(const glm::vec3& p) {
   return "(" + std::to_string(p.x) + ", " + std::to_string(p.y) + ", " + std::to_string(p.z) + ")";

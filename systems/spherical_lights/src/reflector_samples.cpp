@@ -10,6 +10,8 @@
 #include <tbb/parallel_for.h>
 #include <glm/geometric.hpp>
 
+#include "penumbra/data/finite.h"
+
 namespace penumbra::spherical_lights {
 namespace {
 
@@ -17,9 +19,7 @@ std::string mesh_name(const data::MeshData& m) {
   return "mesh \"" + (m.name.empty() ? std::string("(unnamed)") : m.name) + "\"";
 }
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using data::finite;
 
 struct Triangle {
   glm::vec3 a, e1, e2, face_normal;  // face_normal: unnormalised, by the winding

@@ -11,6 +11,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include "penumbra/data/finite.h"
 #include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/lanes.h"
@@ -19,9 +20,7 @@
 namespace penumbra::spherical_lights {
 namespace {
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using data::finite;
 
 float smoothstep01(float x) {
   x = std::clamp(x, 0.0f, 1.0f);

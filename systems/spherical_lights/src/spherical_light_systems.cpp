@@ -23,6 +23,7 @@
 #include "penumbra/components/spherical_light.h"
 #include "penumbra/components/terrain.h"
 #include "penumbra/components/transform.h"
+#include "penumbra/data/finite.h"
 #include "penumbra/data/height_field.h"
 #include "penumbra/sh/rotation.h"
 #include "penumbra/systems/blocker_accumulation/blocker_systems.h"
@@ -49,14 +50,7 @@ std::string entity_name(ecs::Entity e) {
   return "entity " + std::to_string(e.index) + "v" + std::to_string(e.generation);
 }
 
-bool finite(const glm::mat4& m) {
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) {
-      if (!std::isfinite(m[c][r])) return false;
-    }
-  }
-  return true;
-}
+using data::finite;
 
 // [Guerrero08] sec. 7.1: rigid motion and uniform scale (the largest axis scale, as
 // blockers.gather scales radii).

@@ -14,6 +14,7 @@
 #include <immintrin.h>
 #endif
 
+#include "lanes.h"
 #include "penumbra/systems/terrain_shadow/cap_transfer.h"
 
 namespace penumbra::terrain_shadow::detail {
@@ -35,7 +36,6 @@ inline const HorizonNodes& nodes() {
 // Chord nodes of cap_transfer for 1..kMaxStrips strips: cos and sin of psi_j, each count's
 // block padded with zeros to a multiple of kLanes (a padding chord has zero length and weight).
 constexpr int kMaxStrips = kMaxCapStrips;
-constexpr int kLanes = 8;
 constexpr int padded(int strips) {
   return (strips + kLanes - 1) / kLanes * kLanes;
 }

@@ -8,14 +8,14 @@
 
 #include <glm/geometric.hpp>
 
+#include "luminance.h"
+
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-float luminance(const glm::vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
+using detail::luminance;
 
 float angle_between(const glm::vec3& a, const glm::vec3& b) {
   // 2 asin(|a - b| / 2): accurate for small angles, where acos(a . b) is not.

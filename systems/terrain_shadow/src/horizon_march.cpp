@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "fast_math.h"
+#include "march_spline.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow {
@@ -124,14 +125,8 @@ struct Row {
   std::vector<float> best;
 };
 
-// Uniform cubic B-spline on four consecutive angles: at a knot (1/6 2/3 1/6) and at the
-// mid-point after it (1/48 23/48 23/48 1/48) ([Meier13] eq. 4.8-4.12, sec. 5.2).
-inline float knot_value(float am, float a0, float a1) {
-  return (am + 4 * a0 + a1) * (1.0f / 6);
-}
-inline float mid_value(float am, float a0, float a1, float a2) {
-  return (am + 23 * (a0 + a1) + a2) * (1.0f / 48);
-}
+using detail::knot_value;  // [Meier13] eq. 4.8-4.12
+using detail::mid_value;
 
 // The hot loops, over restrict pointers so that they vectorise without alias checks.
 // Elevation slopes of `vectors` whole vectors of lanes (eq. 4.5): bilinear height at the

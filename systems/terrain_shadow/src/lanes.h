@@ -12,6 +12,7 @@
 namespace penumbra::terrain_shadow::detail {
 
 using Lanes = float __attribute__((vector_size(32)));
+inline constexpr int kLanes = 8;  // floats in a Lanes
 
 inline Lanes load(const float* p) {
   Lanes v;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "fast_math.h"
+#include "march_spline.h"
 #include "sweep_geometry.h"
 
 namespace penumbra::terrain_shadow {
@@ -17,14 +18,8 @@ namespace {
 using detail::kHalfPi;
 using detail::kPi;
 
-// Uniform cubic B-spline at a knot and at the mid-point after it ([Meier13] eq. 4.8-4.12,
-// sec. 5.2).
-inline float knot_value(float am, float a0, float a1) {
-  return (am + 4 * a0 + a1) * (1.0f / 6);
-}
-inline float mid_value(float am, float a0, float a1, float a2) {
-  return (am + 23 * (a0 + a1) + a2) * (1.0f / 48);
-}
+using detail::knot_value;  // [Meier13] eq. 4.8-4.12
+using detail::mid_value;
 
 }  // namespace
 

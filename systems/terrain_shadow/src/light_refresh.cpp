@@ -10,15 +10,14 @@
 #include <glm/geometric.hpp>
 
 #include "fast_math.h"
+#include "luminance.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 using detail::kPi;
 
-float luminance(const glm::vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
+using detail::luminance;
 
 // Distance between two boxes (0 when they overlap).
 float box_distance(const glm::vec3& lo_a, const glm::vec3& hi_a, const glm::vec3& lo_b,

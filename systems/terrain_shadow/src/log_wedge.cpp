@@ -44,7 +44,7 @@ inline Lanes sin_poly(Lanes x) {
 // degree <= 2N, in phi a product of a linear ramp and cos/sin(m phi): 24 and 16 points reach
 // float precision (log_wedge_test.cpp checks M_lin against an independent projection).
 constexpr int kPolarPoints = 24;
-constexpr int kAzimuthPoints = 16;
+constexpr int kLogAzimuthPoints = 16;
 
 // Nodes and weights on [-1, 1] (sh::SphereQuadrature's z nodes; its weights include 2 pi).
 void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
@@ -70,7 +70,7 @@ LogWedge<N>::LogWedge(int azimuths, float log_eps) : azimuths_(azimuths), log_ep
   const double dphi = 2 * std::numbers::pi / azimuths;
   std::vector<double> tx, tw, px, pw;
   gauss_legendre(kPolarPoints, tx, tw);
-  gauss_legendre(kAzimuthPoints, px, pw);
+  gauss_legendre(kLogAzimuthPoints, px, pw);
 
   // Eq. 21-23: [M_lin]_ij = integral over the wedge of I_lin,j P^_j(cos theta) y_i, with
   // I_lin = (1 - alpha) for the left border's N columns and alpha for the right border's.
@@ -79,7 +79,8 @@ LogWedge<N>::LogWedge(int azimuths, float log_eps) : azimuths_(azimuths), log_ep
   for (std::size_t a = 0; a < px.size(); ++a) {
     const double alpha = 0.5 * (px[a] + 1), phi = alpha * dphi;
     for (std::size_t t = 0; t < tx.size(); ++t) {
-      const double theta = 0.5 * std::numbers::pi * (tx[t] + 1), z = std::cos(theta), s = std::sin(theta);
+      const double theta = 0.5 * std::numbers::pi * (tx[t] + 1), z = std::cos(theta),
+                   s = std::sin(theta);
       const double weight = 0.5 * dphi * pw[a] * 0.5 * std::numbers::pi * tw[t] * s;
       sh::eval_basis<N>(glm::vec3(static_cast<float>(s * std::cos(phi)),
                                   static_cast<float>(s * std::sin(phi)), static_cast<float>(z)),

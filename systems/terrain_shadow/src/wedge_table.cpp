@@ -98,10 +98,10 @@ double domain_min(WedgeDomain domain) {
 
 // Eight floats on vector lanes (GCC/Clang vector extension, as in sh/basis.cpp); a table node
 // is blocks<N>() aligned 8-float blocks.
+using detail::kLanes;
 using detail::Lanes;
 using detail::load;
 using detail::store;
-constexpr int kLanes = 8;
 
 template <int N>
 constexpr int blocks() {
