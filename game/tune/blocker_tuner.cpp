@@ -20,9 +20,10 @@ namespace ba = blocker_accumulation;
 namespace {
 
 template <int N>
-Evaluation run(const TuneScene& s, const SplitSky& sky, const std::vector<data::Sphere>& spheres,
-               const settings::BlockerTuning& t, const TuneOptions& o,
-               const std::vector<glm::vec3>& points, const std::vector<glm::vec3>& ref) {
+Evaluation run_blockers(const TuneScene& s, const SplitSky& sky,
+                        const std::vector<data::Sphere>& spheres, const settings::BlockerTuning& t,
+                        const TuneOptions& o, const std::vector<glm::vec3>& points,
+                        const std::vector<glm::vec3>& ref) {
   const sh::CoeffsRgb<N> radiance = environment_sh<N>(sky.rest, s.rotation_rad());
   ba::BlockerSettings settings;
   settings.blocker.epsilon = t.epsilon;
@@ -93,13 +94,13 @@ Evaluation BlockerTuner::evaluate(const settings::BlockerTuning& t) const {
   const std::vector<data::Sphere>& spheres = world_spheres(t.spheres_per_object);
   switch (t.bands) {
     case 3:
-      return run<3>(scene_, sky_, spheres, t, options_, points_, reference_);
+      return run_blockers<3>(scene_, sky_, spheres, t, options_, points_, reference_);
     case 4:
-      return run<4>(scene_, sky_, spheres, t, options_, points_, reference_);
+      return run_blockers<4>(scene_, sky_, spheres, t, options_, points_, reference_);
     case 5:
-      return run<5>(scene_, sky_, spheres, t, options_, points_, reference_);
+      return run_blockers<5>(scene_, sky_, spheres, t, options_, points_, reference_);
     case 6:
-      return run<6>(scene_, sky_, spheres, t, options_, points_, reference_);
+      return run_blockers<6>(scene_, sky_, spheres, t, options_, points_, reference_);
     default:
       throw std::invalid_argument("blockers: bands must be 3..6, got " + std::to_string(t.bands));
   }

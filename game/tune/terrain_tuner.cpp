@@ -26,9 +26,9 @@ ts::TerrainShadowConfig config_of(const settings::TerrainTuning& t) {
 }
 
 template <int N>
-Evaluation run(const TuneScene& s, const SplitSky& sky, const settings::TerrainTuning& t,
-               const TuneOptions& o, const std::vector<std::size_t>& texels,
-               const std::vector<glm::vec3>& ref) {
+Evaluation run_terrain(const TuneScene& s, const SplitSky& sky, const settings::TerrainTuning& t,
+                       const TuneOptions& o, const std::vector<std::size_t>& texels,
+                       const std::vector<glm::vec3>& ref) {
   const sh::CoeffsRgb<N> radiance = environment_sh<N>(sky.rest, s.rotation_rad());
   ts::TerrainShadowing<N> method(config_of(t));
   std::vector<glm::vec3> e;
@@ -117,13 +117,13 @@ settings::TerrainTuning TerrainTuner::tuning(const Config& c) const {
 Evaluation TerrainTuner::evaluate(const settings::TerrainTuning& t) const {
   switch (t.bands) {
     case 3:
-      return run<3>(scene_, sky_, t, options_, texels_, reference_);
+      return run_terrain<3>(scene_, sky_, t, options_, texels_, reference_);
     case 4:
-      return run<4>(scene_, sky_, t, options_, texels_, reference_);
+      return run_terrain<4>(scene_, sky_, t, options_, texels_, reference_);
     case 5:
-      return run<5>(scene_, sky_, t, options_, texels_, reference_);
+      return run_terrain<5>(scene_, sky_, t, options_, texels_, reference_);
     case 6:
-      return run<6>(scene_, sky_, t, options_, texels_, reference_);
+      return run_terrain<6>(scene_, sky_, t, options_, texels_, reference_);
     default:
       throw std::invalid_argument("terrain: bands must be 3..6, got " + std::to_string(t.bands));
   }

@@ -23,7 +23,7 @@ namespace {
 
 using test::expect_load_error;
 
-void expect_same(const data::ProbeCloud& a, const data::ProbeCloud& b) {
+void expect_same_cloud(const data::ProbeCloud& a, const data::ProbeCloud& b) {
   EXPECT_EQ(a.bands, b.bands);
   EXPECT_EQ(a.inner_count, b.inner_count);
   ASSERT_EQ(a.positions.size(), b.positions.size());
@@ -148,8 +148,8 @@ TEST(ProbeCloudFile, RoundTripsExactlyThroughDiskAndMemory) {
   for (int bands = data::kProbeMinBands; bands <= data::kProbeMaxBands; ++bands) {
     const data::ProbeCloud c = test::single_tetrahedron_cloud(bands);
     save_probe_cloud_file(path, c);
-    expect_same(load_probe_cloud_file(path), c);
-    expect_same(parse_probe_cloud_file(encode_probe_cloud_file(c), "mem"), c);
+    expect_same_cloud(load_probe_cloud_file(path), c);
+    expect_same_cloud(parse_probe_cloud_file(encode_probe_cloud_file(c), "mem"), c);
   }
   // Edge values survive bit for bit.
   data::ProbeCloud c = test::single_tetrahedron_cloud(2);
@@ -157,7 +157,7 @@ TEST(ProbeCloudFile, RoundTripsExactlyThroughDiskAndMemory) {
                     std::numeric_limits<float>::denorm_min()};
   c.sh[5] = -std::numeric_limits<float>::max();
   save_probe_cloud_file(path, c);
-  expect_same(load_probe_cloud_file(path), c);
+  expect_same_cloud(load_probe_cloud_file(path), c);
 }
 
 TEST(ProbeCloudFile, CloudsWithoutCells) {
@@ -178,7 +178,7 @@ TEST(ProbeCloudFile, CloudsWithoutCells) {
   three.sh.assign(3 * 48, 0.5f);
   three.hull_normals.assign(3, glm::vec3(0));
   save_probe_cloud_file(path, three);
-  expect_same(load_probe_cloud_file(path), three);
+  expect_same_cloud(load_probe_cloud_file(path), three);
 }
 
 TEST(ProbeCloudFile, AtomicWriteLeavesNoTemporaryFile) {
@@ -187,7 +187,7 @@ TEST(ProbeCloudFile, AtomicWriteLeavesNoTemporaryFile) {
   save_probe_cloud_file(path, test::single_tetrahedron_cloud(3));
   const data::ProbeCloud second = test::single_tetrahedron_cloud(2);
   save_probe_cloud_file(path, second);  // replaces the old file
-  expect_same(load_probe_cloud_file(path), second);
+  expect_same_cloud(load_probe_cloud_file(path), second);
   EXPECT_EQ(folder_names(dir.file("")), std::vector<std::string>{"cloud.pcld"});
 
   // Failed writes name the file, leave no temporary file and the old file as it was: a missing
@@ -207,7 +207,7 @@ TEST(ProbeCloudFile, AtomicWriteLeavesNoTemporaryFile) {
   bad.positions[2].y = kNan;
   EXPECT_THROW(save_probe_cloud_file(path, bad), std::invalid_argument);
   EXPECT_EQ(folder_names(dir.file("")), (std::vector<std::string>{"cloud.pcld", "taken"}));
-  expect_same(load_probe_cloud_file(path), second);
+  expect_same_cloud(load_probe_cloud_file(path), second);
 }
 
 TEST(ProbeCloudFile, WriterRejectsWhatTheReaderWould) {

@@ -32,7 +32,7 @@ SphereSetFile sample_set() {
   return s;
 }
 
-void expect_same(const SphereSetFile& a, const SphereSetFile& b) {
+void expect_same_spheres(const SphereSetFile& a, const SphereSetFile& b) {
   ASSERT_EQ(a.spheres.size(), b.spheres.size());
   for (std::size_t i = 0; i < a.spheres.size(); ++i) {
     EXPECT_EQ(a.spheres[i].centre, b.spheres[i].centre) << i;
@@ -88,17 +88,17 @@ TEST(SphereFile, RoundTripsThroughDiskAndMemory) {
   const SphereSetFile s = sample_set();
   const auto path = dir.file("set.psph");
   write_sphere_file(path, s);
-  expect_same(load_sphere_file(path), s);
-  expect_same(parse_sphere_file(encode_sphere_file(s), "mem"), s);
+  expect_same_spheres(load_sphere_file(path), s);
+  expect_same_spheres(parse_sphere_file(encode_sphere_file(s), "mem"), s);
   // Edge values survive bit for bit: an empty set, no name, the extreme figures.
   SphereSetFile e;
   e.outside_volume_ratio = -1;
   e.coverage = 0;
   e.spheres = {{{-0.0f, std::numeric_limits<float>::max(), 1e-30f}, 0.0f, -1}};
   write_sphere_file(path, e);
-  expect_same(load_sphere_file(path), e);
+  expect_same_spheres(load_sphere_file(path), e);
   e.spheres.clear();
-  expect_same(parse_sphere_file(encode_sphere_file(e), "mem"), e);
+  expect_same_spheres(parse_sphere_file(encode_sphere_file(e), "mem"), e);
 }
 
 TEST(SphereFile, AtomicWriteLeavesNoTemporaryFile) {
@@ -109,7 +109,7 @@ TEST(SphereFile, AtomicWriteLeavesNoTemporaryFile) {
   s.spheres.resize(1);
   s.source_model = "suzi.glb";
   write_sphere_file(path, s);  // replaces the old file
-  expect_same(load_sphere_file(path), s);
+  expect_same_spheres(load_sphere_file(path), s);
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(dir.file("")))
     names.push_back(e.path().filename().string());

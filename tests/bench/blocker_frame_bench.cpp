@@ -124,7 +124,7 @@ struct FrameAnalysis {
 
 // Replays accumulate() (blocker_accumulation.cpp) at every receiver: which view_blocker calls
 // and log-SH additions it makes, and the depth limit's evaluations.
-FrameAnalysis analyse(const Scene& scene, Method m) {
+FrameAnalysis analyse_frame(const Scene& scene, Method m) {
   const Fixture& f = fixture();
   const ba::BlockerSettings settings = settings_for(m);
   ba::BlockerAccumulation<N> acc(settings), all(settings_for(Method::kAllPairs));
@@ -203,7 +203,8 @@ void BM_Frame(benchmark::State& state, std::string scene_name, Method m) {
   }
   static std::map<std::pair<std::string, Method>, FrameAnalysis> cache;
   auto it = cache.find({scene_name, m});
-  if (it == cache.end()) it = cache.emplace(std::pair(scene_name, m), analyse(scene, m)).first;
+  if (it == cache.end())
+    it = cache.emplace(std::pair(scene_name, m), analyse_frame(scene, m)).first;
   const FrameAnalysis& a = it->second;
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(f.points.size()));
   state.counters["receivers"] = static_cast<double>(f.points.size());

@@ -157,8 +157,9 @@ std::pair<double, double> difference(const std::vector<glm::vec3>& out,
 }
 
 template <int N>
-SweepAnalysis analyse(const bb::SweepPoint& p, const ba::BlockerAccumulation<N>& acc,
-                      const ba::ReceiverClusters<N>* clusters, const std::vector<glm::vec3>& out) {
+SweepAnalysis analyse_sweep(const bb::SweepPoint& p, const ba::BlockerAccumulation<N>& acc,
+                            const ba::ReceiverClusters<N>* clusters,
+                            const std::vector<glm::vec3>& out) {
   const Receivers& w = window();
   const double receivers = static_cast<double>(w.points.size());
   SweepAnalysis a;
@@ -215,7 +216,7 @@ void BM_Sweep(benchmark::State& state, bb::SweepPoint p) {
   static std::map<std::string, SweepAnalysis> cache;
   auto it = cache.find(p.key);
   if (it == cache.end())
-    it = cache.emplace(p.key, analyse<N>(p, acc, clusters ? &*clusters : nullptr, out)).first;
+    it = cache.emplace(p.key, analyse_sweep<N>(p, acc, clusters ? &*clusters : nullptr, out)).first;
   const SweepAnalysis& a = it->second;
   const double receivers = static_cast<double>(w.points.size());
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(w.points.size()));

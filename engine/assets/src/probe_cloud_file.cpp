@@ -49,7 +49,7 @@ using data::finite;
 
 // Everything both the writer and the reader require of the contents (array sizes agree, which
 // the reader's layout guarantees); "" when valid.
-std::string problem(const data::ProbeCloud& c) {
+std::string cloud_problem(const data::ProbeCloud& c) {
   if (!bands_ok(c.bands)) return bands_problem(c.bands);
   const std::size_t n = c.positions.size();
   const std::size_t cells = c.cells.size();
@@ -109,7 +109,7 @@ std::uint64_t probe_cloud_file_size(int bands, std::uint64_t probes, std::uint64
 }
 
 std::vector<unsigned char> encode_probe_cloud_file(const data::ProbeCloud& cloud) {
-  if (const std::string p = problem(cloud); !p.empty())
+  if (const std::string p = cloud_problem(cloud); !p.empty())
     throw std::invalid_argument("probe cloud file: " + p);
   std::vector<unsigned char> out(static_cast<std::size_t>(
       probe_cloud_file_size(cloud.bands, cloud.positions.size(), cloud.cells.size())));
@@ -201,7 +201,7 @@ data::ProbeCloud parse_probe_cloud_file(std::span<const unsigned char> bytes,
         m[col][row] = get_f32(p);
         p += 4;
       }
-  if (const std::string reason = problem(c); !reason.empty()) fail(reason);
+  if (const std::string reason = cloud_problem(c); !reason.empty()) fail(reason);
   return c;
 }
 

@@ -22,7 +22,7 @@ using detail::get_u32;
 using detail::get_u64;
 
 // Everything both the writer and the reader require of the contents; "" when valid.
-std::string problem(const SphereSetFile& set) {
+std::string sphere_problem(const SphereSetFile& set) {
   if (set.spheres.size() > kMaxSphereFileSpheres)
     return "too many spheres (" + std::to_string(set.spheres.size()) + ", at most " +
            std::to_string(kMaxSphereFileSpheres) + ")";
@@ -80,7 +80,7 @@ const char* sphere_fit_method_name(SphereFitMethod method) {
 }
 
 std::vector<unsigned char> encode_sphere_file(const SphereSetFile& set) {
-  if (const std::string p = problem(set); !p.empty())
+  if (const std::string p = sphere_problem(set); !p.empty())
     throw std::invalid_argument("sphere file: " + p);
   std::vector<unsigned char> out(kSphereHeaderBytes + set.source_model.size() +
                                  kSphereBytes * set.spheres.size() + kChecksumBytes);
@@ -147,7 +147,7 @@ SphereSetFile parse_sphere_file(std::span<const unsigned char> bytes, const std:
     s.parent = std::bit_cast<std::int32_t>(get_u32(p + 16));
     p += kSphereBytes;
   }
-  if (const std::string reason = problem(set); !reason.empty()) fail(reason);
+  if (const std::string reason = sphere_problem(set); !reason.empty()) fail(reason);
   return set;
 }
 

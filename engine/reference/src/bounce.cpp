@@ -26,8 +26,8 @@ using detail::kInf;
 
 using detail::black;
 
-RgbEstimate estimate(const Scene& scene, const Receiver& r, std::size_t index,
-                     const BounceOptions& o) {
+RgbEstimate bounce_estimate(const Scene& scene, const Receiver& r, std::size_t index,
+                            const BounceOptions& o) {
   const detail::Shading s = detail::shading(scene, r, o.ray_offset);
   const Frame frame(s.n);
   const StrataGrid grid = StrataGrid::for_count(o.samples / 2, o.stratified);
@@ -83,8 +83,9 @@ std::vector<RgbEstimate> indirect_irradiance(const Scene& scene,
     for (RgbEstimate& e : out) e.samples = samples;
     return out;
   }
-  detail::for_each_receiver(
-      receivers.size(), [&](std::size_t i) { out[i] = estimate(scene, receivers[i], i, options); });
+  detail::for_each_receiver(receivers.size(), [&](std::size_t i) {
+    out[i] = bounce_estimate(scene, receivers[i], i, options);
+  });
   return out;
 }
 

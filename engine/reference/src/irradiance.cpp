@@ -29,8 +29,8 @@ constexpr std::uint32_t kNoTexel = ~0u;
 
 // Per receiver: (1) draw every sample, (2) read the cosine samples' texels in a tight loop of
 // independent loads (their cache misses overlap), (3) cast the shadow rays, (4) pair up.
-RgbEstimate estimate(const Scene& scene, const EnvironmentSampler& env, const Receiver& r,
-                     std::size_t index, const IrradianceOptions& o) {
+RgbEstimate irradiance_estimate(const Scene& scene, const EnvironmentSampler& env,
+                                const Receiver& r, std::size_t index, const IrradianceOptions& o) {
   const detail::Shading s = detail::shading(scene, r, o.ray_offset);
   const Frame frame(s.n);
   const bool use_cos = o.strategy != EnvironmentStrategy::kEnvironment;
@@ -106,7 +106,7 @@ std::vector<RgbEstimate> environment_irradiance(const Scene& scene,
   const EnvironmentSampler* env = scene.environment();
   if (env == nullptr) return out;
   detail::for_each_receiver(receivers.size(), [&](std::size_t i) {
-    out[i] = estimate(scene, *env, receivers[i], i, options);
+    out[i] = irradiance_estimate(scene, *env, receivers[i], i, options);
   });
   return out;
 }

@@ -21,8 +21,8 @@ struct Cone {
   glm::vec3 radiance;
 };
 
-RgbEstimate estimate(const Scene& scene, const Receiver& r, std::size_t index,
-                     const LightOptions& o) {
+RgbEstimate light_estimate(const Scene& scene, const Receiver& r, std::size_t index,
+                           const LightOptions& o) {
   // The cones are those seen from the receiver itself; only the shadow rays start at the
   // offset origin (so the offset biases nothing but visibility).
   const detail::Shading s = detail::shading(scene, r, o.ray_offset);
@@ -89,8 +89,9 @@ std::vector<RgbEstimate> light_irradiance(const Scene& scene, std::span<const Re
   detail::check_receivers(receivers, false, kFn);
   std::vector<RgbEstimate> out(receivers.size());
   if (scene.lights().empty()) return out;
-  detail::for_each_receiver(
-      receivers.size(), [&](std::size_t i) { out[i] = estimate(scene, receivers[i], i, options); });
+  detail::for_each_receiver(receivers.size(), [&](std::size_t i) {
+    out[i] = light_estimate(scene, receivers[i], i, options);
+  });
   return out;
 }
 

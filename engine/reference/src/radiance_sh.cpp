@@ -39,7 +39,7 @@ void project(Acc<N>& acc, const glm::dvec3& radiance, const glm::vec3& dir, doub
 }
 
 template <int N>
-RadianceShEstimate<N> estimate(const Scene& scene, const glm::vec3& p, std::size_t index,
+RadianceShEstimate<N> radiance_estimate(const Scene& scene, const glm::vec3& p, std::size_t index,
                                const RadianceShOptions& o) {
   const StrataGrid grid = StrataGrid::for_count(o.samples / 2, o.stratified);
   Pcg32 rng(o.seed, index, kRadianceShSalt);
@@ -139,7 +139,7 @@ std::vector<RadianceShEstimate<N>> radiance_sh(const Scene& scene,
                                   "] is not finite");
   std::vector<RadianceShEstimate<N>> out(points.size());
   detail::for_each_receiver(points.size(), [&](std::size_t i) {
-    out[i] = estimate<N>(scene, points[i], options.first_index + i, options);
+    out[i] = radiance_estimate<N>(scene, points[i], options.first_index + i, options);
   });
   return out;
 }

@@ -11,8 +11,8 @@ namespace penumbra::reference {
 namespace {
 
 template <int N>
-ShEstimate<N> estimate(const Scene& scene, const Receiver& r, std::size_t index,
-                       const VisibilityOptions& o) {
+ShEstimate<N> visibility_estimate(const Scene& scene, const Receiver& r, std::size_t index,
+                                  const VisibilityOptions& o) {
   constexpr int kCount = N * N;
   const detail::Shading s = detail::shading(scene, r, o.ray_offset);
   // Direction warp and the constant W(w) / pdf(w) of each domain.
@@ -61,7 +61,7 @@ std::vector<ShEstimate<N>> visibility_sh(const Scene& scene, std::span<const Rec
   detail::check_receivers(receivers, options.domain == VisibilityDomain::kSphere, kFn);
   std::vector<ShEstimate<N>> out(receivers.size());
   detail::for_each_receiver(receivers.size(), [&](std::size_t i) {
-    out[i] = estimate<N>(scene, receivers[i], i, options);
+    out[i] = visibility_estimate<N>(scene, receivers[i], i, options);
   });
   return out;
 }

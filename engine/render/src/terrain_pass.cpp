@@ -26,7 +26,7 @@ bool drawable(const std::shared_ptr<const data::HeightField>& f) {
          f->heights.size() >= static_cast<std::size_t>(f->width) * f->height;
 }
 
-bool usable(const TerrainDraw& t) {
+bool drawable(const TerrainDraw& t) {
   return t.lighting && t.lighting_width > 0 && t.lighting_height > 0 &&
          t.lighting->size() >= static_cast<std::size_t>(t.lighting_width) * t.lighting_height;
 }
@@ -117,7 +117,7 @@ void TerrainPass::prepare(FrameContext& ctx) {
     upload_heights(ctx, *t.heights);
     heights_src_ = t.heights;
   }
-  if (!usable(t)) {
+  if (!drawable(t)) {
     lighting_src_.reset();
   } else if (t.lighting != lighting_src_ || t.lighting_width != lit_w_ ||
              t.lighting_height != lit_h_) {

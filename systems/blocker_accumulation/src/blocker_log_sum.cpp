@@ -6,7 +6,7 @@ namespace penumbra::blocker_accumulation {
 namespace {
 using sh::Lanes;
 
-Lanes smoothstep01(Lanes x) {
+Lanes smoothstep01_lanes(Lanes x) {
   x = sh::lane_clamp01(x);
   return x * x * (3.0f - 2.0f * x);
 }
@@ -62,9 +62,9 @@ void BlockerLogSum<N>::flush() {
   const Lanes inv_d = 1.0f / safe_d;
   const Lanes ax = tx * inv_d, ay = ty * inv_d, az = tz * inv_d;
   const Lanes sin_angle = sh::lane_min(r1 * inv_d, sh::splat(1.0f));  // [Giraud] eq. 24, guarded
-  Lanes w = smoothstep01(t * (0.5f / sh::select(valid, r, sh::splat(1.0f))));
+  Lanes w = smoothstep01_lanes(t * (0.5f / sh::select(valid, r, sh::splat(1.0f))));
   if (settings_.min_sin > 0)
-    w *= smoothstep01((sin_angle - settings_.min_sin) * (1.0f / settings_.min_sin));
+    w *= smoothstep01_lanes((sin_angle - settings_.min_sin) * (1.0f / settings_.min_sin));
   if (settings_.ratio == RatioAttenuation::kOn) w *= sin_angle;  // [Giraud] sec. 4.2
   w = sh::select(valid, w * sh::load_lanes(scale_), Lanes{});
   w = sh::select(w > 0.0f, w, Lanes{});

@@ -47,7 +47,7 @@ constexpr int kPolarPoints = 24;
 constexpr int kLogAzimuthPoints = 16;
 
 // Nodes and weights on [-1, 1] (sh::SphereQuadrature's z nodes; its weights include 2 pi).
-void gauss_legendre(int n, std::vector<double>& x, std::vector<double>& w) {
+void gauss_legendre_nodes(int n, std::vector<double>& x, std::vector<double>& w) {
   const sh::SphereQuadrature q = sh::SphereQuadrature::gauss(n, 1);
   for (int i = 0; i < n; ++i) {
     x.push_back(q.directions[i].z);
@@ -69,8 +69,8 @@ LogWedge<N>::LogWedge(int azimuths, float log_eps) : azimuths_(azimuths), log_ep
   constexpr int kNN = N * N, kCols = 2 * N;
   const double dphi = 2 * std::numbers::pi / azimuths;
   std::vector<double> tx, tw, px, pw;
-  gauss_legendre(kPolarPoints, tx, tw);
-  gauss_legendre(kLogAzimuthPoints, px, pw);
+  gauss_legendre_nodes(kPolarPoints, tx, tw);
+  gauss_legendre_nodes(kLogAzimuthPoints, px, pw);
 
   // Eq. 21-23: [M_lin]_ij = integral over the wedge of I_lin,j P^_j(cos theta) y_i, with
   // I_lin = (1 - alpha) for the left border's N columns and alpha for the right border's.
