@@ -12,14 +12,12 @@
 #include "common/constants.h"
 #include "penumbra/assets/procedural.h"
 #include "penumbra/data/height_field.h"
+#include "penumbra/data/luminance.h"
 #include "penumbra/sh/basis.h"
 
 namespace penumbra::terrain_shadow {
 
-// Rec. 709 luminance of linear RGB.
-inline float luminance(const glm::vec3& c) {
-  return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z;
-}
+using data::luminance;  // Rec. 709, as the refresh policies measure
 
 }  // namespace penumbra::terrain_shadow
 

@@ -8,14 +8,14 @@
 
 #include <glm/geometric.hpp>
 
-#include "luminance.h"
+#include "penumbra/data/luminance.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-using detail::luminance;
+using data::luminance;
 
 float angle_between(const glm::vec3& a, const glm::vec3& b) {
   // 2 asin(|a - b| / 2): accurate for small angles, where acos(a . b) is not.

@@ -10,14 +10,14 @@
 #include <glm/geometric.hpp>
 
 #include "fast_math.h"
-#include "luminance.h"
+#include "penumbra/data/luminance.h"
 
 namespace penumbra::terrain_shadow {
 namespace {
 
 using detail::kPi;
 
-using detail::luminance;
+using data::luminance;
 
 // Distance between two boxes (0 when they overlap).
 float box_distance(const glm::vec3& lo_a, const glm::vec3& hi_a, const glm::vec3& lo_b,

@@ -32,6 +32,7 @@
 #include <glm/vec3.hpp>
 
 #include "penumbra/data/environment_map.h"
+#include "penumbra/data/luminance.h"
 
 namespace penumbra::reference {
 
@@ -84,9 +85,7 @@ class EnvironmentSampler {
   std::vector<double> z_edge_;            // cos(pi y / height), y = 0..height
 };
 
-// Rec. 709 luminance.
-inline float luminance(const glm::vec3& rgb) {
-  return 0.2126f * rgb.x + 0.7152f * rgb.y + 0.0722f * rgb.z;
-}
+// Rec. 709 luminance (penumbra/data/luminance.h).
+using data::luminance;
 
 }  // namespace penumbra::reference
