@@ -160,16 +160,17 @@ void prepare_output(const data::HeightField& f, const HorizonParams& p, HorizonG
 
 }  // namespace
 
-// Per thread: one task's planes and kernel scratch; and the field's padded copies.
+// Per thread: one task's kernel scratch; one region-sized plane per azimuth (as many floats as
+// the region's records); and the field's padded copies.
 struct SweepWorkspace::Buffers {
   struct Task {
-    std::vector<float, CacheLineAllocator<float>> planes;
     Scratch scalar;
 #ifdef __AVX2__
     detail::LaneScratch lanes;
 #endif
   };
   tbb::enumerable_thread_specific<Task> tasks;
+  std::vector<float, CacheLineAllocator<float>> planes;
 #ifdef __AVX2__
   detail::LaneFields fields;
   // Per azimuth, the line groups' hulls that edits left (sweep_lanes.h, GroupHull): valid for
@@ -219,33 +220,31 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 #else
   kernel = Kernel::kScalar;
 #endif
-  // Parallel over blocks of azimuths: each task sweeps its azimuths into planes, then writes
-  // them into the texels' records together (a contiguous run per texel, not one strided float
-  // per azimuth, which would touch every record's cache line once per azimuth). The planes are
-  // the block's thread's; the block's azimuths are a parallel loop of their own, so that a
-  // thread done with its block sweeps azimuths of another (when one core runs slower than the
-  // other for a while, as a virtual machine's can: docs/terrain_shadow.md, "Eighth round"),
-  // each into the block's planes with its own scratch. That loop is isolated: a thread waiting
-  // in it runs only its azimuths, never another block, so no other block can take the thread's
-  // planes or scratch before this one ends. Blocks of 16 azimuths write whole cache lines
-  // of the records, with streaming stores (texel_records); 8 write half lines, each read for
-  // ownership twice. 16 from 256^2 texels (measured there and at 1024^2: docs/terrain_shadow.md,
-  // "Horizons, fourth round"), while there are blocks for every thread; smaller regions (not
-  // measured) keep 8 and their records in cache.
+  // Two parallel loops: every azimuth into its own plane (one task an azimuth, taken by
+  // whichever thread is free, so that a thread that runs faster than the other for a while, as a
+  // virtual machine's can, sweeps more of them: docs/terrain_shadow.md, "Eighth round"), then
+  // the planes into the texels' records block by block (a contiguous run per texel, not one
+  // strided float per azimuth, which would touch every record's cache line once per azimuth).
+  // An azimuth's task waits for nothing, so a thread's scratch serves one azimuth at a time.
+  // One loop over blocks that each swept and wrote their own azimuths was 3-10% slower at 256^2
+  // (its last block's records on one thread while the other waited: "Twentieth round").
+  // Blocks of 16 azimuths write whole cache lines of the records, with streaming stores
+  // (texel_records); 8 write half lines, each read for ownership twice. 16 from 256^2 texels
+  // (measured there and at 1024^2: docs/terrain_shadow.md, "Horizons, fourth round"), while
+  // there are blocks for every thread; smaller regions (not measured) keep 8 and their records
+  // in cache.
   const bool wide = region.count() >= 256 * 256 &&
                     params.azimuths / 16 >= tbb::this_task_arena::max_concurrency();
   const int block_size = wide ? 16 : 8;
   const int blocks = (params.azimuths + block_size - 1) / block_size;
-  tbb::parallel_for(0, blocks, [&](int block) {
-    const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
-    auto& block_planes = ws.tasks.local().planes;
-    block_planes.resize(static_cast<std::size_t>(k1 - k0) * region.count());
-    float* const planes = block_planes.data();
-    tbb::this_task_arena::isolate([&] {
-      tbb::parallel_for(tbb::blocked_range<int>(k0, k1, 1), [&](const tbb::blocked_range<int>& ks) {
+  const std::size_t count = region.count();
+  ws.planes.resize(static_cast<std::size_t>(params.azimuths) * count);
+  float* const planes = ws.planes.data();
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, params.azimuths, 1), [&](const tbb::blocked_range<int>& ks) {
         SweepWorkspace::Buffers::Task& task = ws.tasks.local();  // this thread's scratch
         for (int k = ks.begin(); k < ks.end(); ++k) {
-          float* plane = planes + (k - k0) * region.count();
+          float* plane = planes + static_cast<std::size_t>(k) * count;
 #ifdef __AVX2__
           if (kernel == Kernel::kLanes) {
             detail::sweep_azimuth_lanes(field, ws.fields, params, region, k, task.lanes, plane);
@@ -255,15 +254,17 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
           sweep_azimuth(field, params, region, k, task.scalar, plane);
         }
       });
-    });
+  tbb::parallel_for(0, blocks, [&](int block) {
+    const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
+    const float* const block_planes = planes + static_cast<std::size_t>(k0) * count;
 #ifdef __AVX2__
-    detail::texel_records(planes, region.count(), region, k0, k1, out);
+    detail::texel_records(block_planes, count, region, k0, k1, out);
 #else
     std::size_t i = 0;
     for (int y = region.y0; y < region.y1; ++y)
       for (int x = region.x0; x < region.x1; ++x, ++i) {
         float* dst = out.texel(x, y) + k0;
-        for (int k = k0; k < k1; ++k) dst[k - k0] = planes[(k - k0) * region.count() + i];
+        for (int k = k0; k < k1; ++k) dst[k - k0] = block_planes[(k - k0) * count + i];
       }
 #endif
   });

@@ -30,11 +30,12 @@ namespace penumbra::terrain_shadow {
 
 // The sweep's buffers kept from one call to the next: a caller that sweeps again and again (the
 // terrain system, at every update and edit) owns one, so that calls stop allocating once the
-// sizes settle. It holds, per thread, 8 or 16 azimuths' planes of the region (4 MB at 256^2 with
-// 32 azimuths, 64 MB at 1024^2 with 64) and the lane kernel's accumulators, and the field's two
-// padded copies; and, after edits (sweep_horizons_through), each edited line group's hull at
-// the edit, a few kB per group and azimuth, so that the next edit there does not walk the
-// unchanged lines ahead of it again. Not thread-safe: one call at a time per workspace.
+// sizes settle. It holds one plane of the region per azimuth (as many floats as the region's
+// records: 8 MB at 256^2 with 32 azimuths, 256 MB at 1024^2 with 64), per thread the lane
+// kernel's accumulators, and the field's two padded copies; and, after edits
+// (sweep_horizons_through), each edited line group's hull at the edit, a few kB per group and
+// azimuth, so that the next edit there does not walk the unchanged lines ahead of it again. Not
+// thread-safe: one call at a time per workspace.
 class SweepWorkspace {
  public:
   SweepWorkspace();
