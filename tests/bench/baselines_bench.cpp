@@ -8,12 +8,15 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 #include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
 
 #ifdef __AVX2__
 #include <immintrin.h>
 #endif
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -61,14 +64,37 @@ double best_of_iterations(benchmark::State& state, F&& body) {
   return best;
 }
 
+// The peak is what all the arena's threads do together, so its best iteration is taken among
+// those every thread took part in. The host can stop a vCPU for longer than this loop runs
+// (docs/terrain_shadow.md, "Twentieth round": one run of 33 read half the peak); when no
+// iteration saw every thread, the best one stands in at its rate per thread times the threads
+// ("peak_threads_seen" says how many it saw, and the summary's peak row says so).
 void BM_PeakOps(benchmark::State& state) {
   std::vector<float> sink(kPeakChunks);
-  best_of_iterations(state, [&] {
+  const int threads = tbb::this_task_arena::max_concurrency();
+  double best_all = 1e300, best_any = 1e300;
+  int best_any_threads = 1;
+  for (auto _ : state) {
+    std::atomic<std::uint64_t> seen{0};
+    const auto t0 = std::chrono::steady_clock::now();
     tbb::parallel_for(
-        0, kPeakChunks, [&](int i) { sink[i] = peak_chunk(static_cast<float>(i)); },
+        0, kPeakChunks,
+        [&](int i) {
+          seen.fetch_or(std::uint64_t{1} << (tbb::this_task_arena::current_thread_index() & 63),
+                        std::memory_order_relaxed);
+          sink[i] = peak_chunk(static_cast<float>(i));
+        },
         tbb::simple_partitioner());
     benchmark::DoNotOptimize(sink.data());
-  });
+    const double ns =
+        std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+    const int n = std::popcount(seen.load(std::memory_order_relaxed));
+    if (n >= std::min(threads, 64)) best_all = std::min(best_all, ns);
+    if (ns < best_any) best_any = ns, best_any_threads = std::max(n, 1);
+  }
+  const bool all = best_all < 1e300;
+  state.counters["best_ns"] = all ? best_all : best_any * best_any_threads / threads;
+  state.counters["peak_threads_seen"] = all ? threads : best_any_threads;
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kPeakOpsPerIteration));
 }
 

@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <tbb/task_arena.h>
+
 #include "bench_chart.h"
 #include "terrain_records.h"
 
@@ -157,6 +159,12 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
   peak.note =
       "AVX2 FMA chains, 8 lanes; an op = one lane of one instruction; best iteration (also the "
       "stream reads)";
+  // baselines_bench.cpp: fewer threads seen than the arena has means no iteration ran on all.
+  const auto seen = r.counter("baseline/peak_ops", "peak_threads_seen");
+  if (seen && *seen < tbb::this_task_arena::max_concurrency())
+    peak.note +=
+        "; no iteration ran on every thread (a vCPU stopped): the best one's rate per "
+        "thread x the threads";
   s.add(peak);
   pb::Row l3;
   l3.name = "stream read 8 MiB (L3), 2 threads";
