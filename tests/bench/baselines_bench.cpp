@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "peak_iterations.h"
 #include "terrain_bench_common.h"
 
 namespace penumbra::terrain_bench {
@@ -64,16 +65,12 @@ double best_of_iterations(benchmark::State& state, F&& body) {
   return best;
 }
 
-// The peak is what all the arena's threads do together, so its best iteration is taken among
-// those every thread took part in. The host can stop a vCPU for longer than this loop runs
-// (docs/terrain_shadow.md, "Twentieth round": one run of 33 read half the peak); when no
-// iteration saw every thread, the best one stands in at its rate per thread times the threads
-// ("peak_threads_seen" says how many it saw, and the summary's peak row says so).
+// The peak's best iteration among those every thread ran (peak_iterations.h); thread indices
+// above 63 share a bit, so at most 64 threads are told apart.
 void BM_PeakOps(benchmark::State& state) {
   std::vector<float> sink(kPeakChunks);
-  const int threads = tbb::this_task_arena::max_concurrency();
-  double best_all = 1e300, best_any = 1e300;
-  int best_any_threads = 1;
+  const int threads = std::min(tbb::this_task_arena::max_concurrency(), 64);
+  PeakIterations peak(threads);
   for (auto _ : state) {
     std::atomic<std::uint64_t> seen{0};
     const auto t0 = std::chrono::steady_clock::now();
@@ -86,15 +83,12 @@ void BM_PeakOps(benchmark::State& state) {
         },
         tbb::simple_partitioner());
     benchmark::DoNotOptimize(sink.data());
-    const double ns =
-        std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
-    const int n = std::popcount(seen.load(std::memory_order_relaxed));
-    if (n >= std::min(threads, 64)) best_all = std::min(best_all, ns);
-    if (ns < best_any) best_any = ns, best_any_threads = std::max(n, 1);
+    peak.add(
+        std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count(),
+        std::popcount(seen.load(std::memory_order_relaxed)));
   }
-  const bool all = best_all < 1e300;
-  state.counters["best_ns"] = all ? best_all : best_any * best_any_threads / threads;
-  state.counters["peak_threads_seen"] = all ? threads : best_any_threads;
+  state.counters["best_ns"] = peak.best_ns();
+  state.counters["peak_threads_seen"] = peak.threads_seen();
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kPeakOpsPerIteration));
 }
 

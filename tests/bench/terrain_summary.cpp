@@ -161,7 +161,7 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
       "stream reads)";
   // baselines_bench.cpp: fewer threads seen than the arena has means no iteration ran on all.
   const auto seen = r.counter("baseline/peak_ops", "peak_threads_seen");
-  if (seen && *seen < tbb::this_task_arena::max_concurrency())
+  if (seen && *seen < std::min(tbb::this_task_arena::max_concurrency(), 64))
     peak.note +=
         "; no iteration ran on every thread (a vCPU stopped): the best one's rate per "
         "thread x the threads";

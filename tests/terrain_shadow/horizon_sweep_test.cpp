@@ -293,6 +293,22 @@ TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
   EXPECT_EQ(reinterpret_cast<std::uintptr_t>(full.angles.data()) % 64, 0u);
 }
 
+TEST(HorizonSweep, TheThreadCountChangesNoBit) {
+  // Every azimuth is a task of its own and the records are written per block after them
+  // (horizon_sweep.cpp): on 1, 2 and 3 threads (blocks of 16 azimuths, then of 8, since 32 / 16
+  // < 3), through one workspace, the same horizons bit for bit.
+  const auto f = unit_cell_mountains(264, 21);
+  HorizonParams p;
+  p.azimuths = 32;
+  SweepWorkspace ws;
+  std::vector<HorizonGrid> grids(3);
+  for (int threads = 1; threads <= 3; ++threads)
+    tbb::task_arena(threads).execute(
+        [&] { sweep_horizons(f, p, TexelRect::all(f), grids[threads - 1], ws); });
+  EXPECT_EQ(grids[0].angles, grids[1].angles);
+  EXPECT_EQ(grids[0].angles, grids[2].angles);
+}
+
 TEST(HorizonSweep, EditsInTurnResumeFromKeptHullsBitForBit) {
   // One workspace through a run of edits: the same box again, moved along x and y both ways,
   // far away, back. Each edit's line groups resume from the hulls the edits before left where
