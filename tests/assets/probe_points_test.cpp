@@ -28,7 +28,7 @@ TEST(ProbePoints, ParsesShAfterThePosition) {
   std::string text;
   for (int probe = 0; probe < 2; ++probe) {
     text += std::to_string(probe) + " 0 0";
-    for (int i = 0; i < 12; ++i) text += " " + std::to_string(probe * 100 + i);
+    for (int i = 0; i < 12; ++i) text.append(" ").append(std::to_string(probe * 100 + i));
     text += "\n";
   }
   const ProbePoints p = parse_probe_points(text, 2, "p.txt");

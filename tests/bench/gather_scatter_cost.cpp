@@ -1,8 +1,8 @@
 // What 512-bit gathers and scatters cost on this CPU: the bound that ruled out a horizon walk with
-// each lane at its own step (docs/terrain_shadow.md, "Nineteenth round"). Not a Google Benchmark
-// group: a plain loop per operation, 10^7 iterations, addresses spread over 64 KiB as the sweep's
-// links are; prints ns per iteration. Built only for x86-64 (compiled for AVX-512); run it on a
-// CPU with AVX-512 (it says so and exits otherwise), pinned to one core:
+// each lane at its own step (docs/terrain_shadow_log.md, "Nineteenth round"). Not a Google
+// Benchmark group: a plain loop per operation, 10^7 iterations, addresses spread over 64 KiB as the
+// sweep's links are; prints ns per iteration. Built only for x86-64 (compiled for AVX-512); run it
+// on a CPU with AVX-512 (it says so and exits otherwise), pinned to one core:
 //   taskset -c 1 build/release/tests/bench/gather_scatter_cost
 #include <immintrin.h>
 

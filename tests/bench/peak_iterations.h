@@ -1,7 +1,7 @@
 // The vector peak's choice among its timed iterations (baselines_bench.cpp): the peak is what all
 // of an arena's threads do together, so its best iteration is taken among those that every thread
 // took part in. The host can stop a vCPU for longer than the whole measurement
-// (docs/terrain_shadow.md, "Twentieth round": one run of 42 read half the peak); when no
+// (docs/terrain_shadow_log.md, "Twentieth round": one run of 42 read half the peak); when no
 // iteration saw every thread, the best one stands in at its rate per thread times the threads,
 // and `threads_seen` says how many it saw.
 #pragma once

@@ -6,14 +6,14 @@
 //
 // This machine's two vCPUs are not always equally fast: for spells of seconds to minutes one of
 // them runs the sweep's walk (latency- and branch-bound) 1.3-1.8x slower while the FMA chains
-// that set the floor unit slow less or not at all (docs/terrain_shadow.md, "Twelfth round").
+// that set the floor unit slow less or not at all (docs/terrain_shadow_log.md, "Twelfth round").
 // A run's ratios then read high without any change in the code. The probe pins one thread to
 // each of the first two CPUs the process may run on, sweeps the bench's field (256^2, 32
 // azimuths) on each kPasses times, both at once, and reports each vCPU's median: the summary
 // shows them against the one-thread floor, so a reader can tell a slow moment from a slower
 // build. Beside it, a measure our code does not set: the latency of a pointer chase through an
 // L2-sized buffer, which reads 10-40% higher on a vCPU in its slow moments (another thread on
-// the same core, docs/terrain_shadow.md, "Thirteenth round"). Nothing else reads them (no goal,
+// the same core, docs/terrain_shadow_log.md, "Thirteenth round"). Nothing else reads them (no goal,
 // no floor of another case).
 #include <pthread.h>
 #include <sched.h>

@@ -606,7 +606,7 @@ TEST(LightShading, RadialHorizonsSixteenAtATimeEqualOneAtATime) {
 }
 
 // The same light twice on two threads gives the same bits: which thread shades which span must
-// not matter (docs/terrain_shadow.md, "Lights, third round": TBB's inlined copies of a parallel
+// not matter (docs/terrain_shadow_log.md, "Lights, third round": TBB's inlined copies of a parallel
 // body once fused multiply-adds differently).
 TEST(LightShading, OneLightTwiceOnTwoThreadsGivesTheSameBits) {
   tbb::global_control two(tbb::global_control::max_allowed_parallelism, 2);

@@ -222,7 +222,7 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
 #endif
   // Two parallel loops: every azimuth into its own plane (one task an azimuth, taken by
   // whichever thread is free, so that a thread that runs faster than the other for a while, as a
-  // virtual machine's can, sweeps more of them: docs/terrain_shadow.md, "Eighth round"), then
+  // virtual machine's can, sweeps more of them: docs/terrain_shadow_log.md, "Eighth round"), then
   // the planes into the texels' records block by block (a contiguous run per texel, not one
   // strided float per azimuth, which would touch every record's cache line once per azimuth).
   // An azimuth's task waits for nothing, so a thread's scratch serves one azimuth at a time.
@@ -230,7 +230,7 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   // (its last block's records on one thread while the other waited: "Twentieth round").
   // Blocks of 16 azimuths write whole cache lines of the records, with streaming stores
   // (texel_records); 8 write half lines, each read for ownership twice. 16 from 256^2 texels
-  // (measured there and at 1024^2: docs/terrain_shadow.md, "Horizons, fourth round"), while
+  // (measured there and at 1024^2: docs/terrain_shadow_log.md, "Horizons, fourth round"), while
   // there are blocks for every thread; smaller regions (not measured) keep 8 and their records
   // in cache.
   const bool wide = region.count() >= 256 * 256 &&

@@ -71,7 +71,7 @@ void LaneFields::assign(const data::HeightField& f) {
   // registers; on one thread below 512^2 texels (there the copy costs less than two threads'
   // fork and join), in parallel bands of 64 rows from there. A band whose rows the copies hold
   // already is only read: rewriting lines that the other threads' caches hold from the last
-  // sweep costs more than comparing them (docs/terrain_shadow.md, "Eleventh round" and "Twelfth
+  // sweep costs more than comparing them (docs/terrain_shadow_log.md, "Eleventh round" and "Twelfth
   // round").
   auto band = [&](int y0, int y1) {
     if (kept) {
@@ -677,9 +677,9 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
       const __mmask16 pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
       // Worked out before the pop, beside the comparison (off the path from it to the gather;
-      // docs/terrain_shadow.md, "Tenth round"): the lanes whose c a pop leaves stale with a point
-      // below b (depth < 4, size > 3 before it), and the links' index of c's slot (c becomes b,
-      // and the slot b was pushed at holds the point below it; the gather reads refilling lanes
+      // docs/terrain_shadow_log.md, "Tenth round"): the lanes whose c a pop leaves stale with a
+      // point below b (depth < 4, size > 3 before it), and the links' index of c's slot (c becomes
+      // b, and the slot b was pushed at holds the point below it; the gather reads refilling lanes
       // only, whose c is a point of the hull).
       const __mmask16 low =
           _mm512_mask_cmplt_epi32_mask(_mm512_cmpgt_epi32_mask(t16, three), depth, four);

@@ -12,7 +12,7 @@
 // lines, three hull points in registers and an AVX-512 copy: docs/terrain_shadow.md, "Speed
 // toward the floors". The AVX-512 copy walks the sixteen lanes in one 512-bit vector, with four
 // hull points in registers and each link's height and j side by side (one 64-bit gather element
-// each; "Sixth round").
+// each; docs/terrain_shadow_log.md, "Sixth round").
 #pragma once
 
 #include <cstddef>
@@ -46,7 +46,7 @@ struct LaneFields {
 // One group's hull (every lane's points, bottom to top) as it was before the walk reached
 // column u: kept from one edit to the next, so that an edit whose first recorded column is at
 // or behind u resumes the walk there (the samples ahead of u are unchanged; the same floats as
-// a walk from the far end). docs/terrain_shadow.md, "Sixth round".
+// a walk from the far end). docs/terrain_shadow_log.md, "Sixth round".
 struct GroupHull {
   int cg = 0;       // the group's first line
   int u_start = 0;  // the walk's first column (the field's far end for this group)
@@ -59,7 +59,7 @@ struct GroupHull {
 // The values an edit recomputed along one azimuth's lines (those it compared with `out`'s
 // records, in the write-back's order), kept so that the next edit of the same rectangle into the
 // same grid compares with them instead of the records (one contiguous read instead of a record
-// line per pair; docs/terrain_shadow.md, "Ninth round"). Valid while `out`'s records along the
+// line per pair; docs/terrain_shadow_log.md, "Ninth round"). Valid while `out`'s records along the
 // band are still the values held: the workspace clears it on any other sweep.
 struct EditBand {
   TexelRect edited{};

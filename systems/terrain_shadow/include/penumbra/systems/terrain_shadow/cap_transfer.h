@@ -5,7 +5,8 @@
 // cosine-weighted solid angle of the part of the cap above that horizon and above the
 // receiver's tangent plane, int_cap V(w) max(0, n.w) dw, integrated directly (no SH, so no
 // ringing and no band-limit blur of small lights): E = L * cap_transfer.
-// Where its time goes: docs/terrain_shadow.md ("Light shading, measured"; "Lights, third round").
+// Where its time goes: docs/terrain_shadow.md ("Light shading, measured") and
+// docs/terrain_shadow_log.md ("Lights, third round").
 //
 // Integration: the cap projected orthographically onto the plane perpendicular to its centre
 // direction c is a disc of radius rho = r / |d|; with w = c0 c + s s^ + u u^ (u^ "up", s^
