@@ -112,9 +112,13 @@ def run_bench(count, directory):
     for i in range(count):
         path = os.path.join(directory, f"{stamp}_{i + 1}.json")
         scratch = os.path.join(directory, "last")
-        subprocess.run([exe, f"--summary_out={path}", f"--benchmark_out={scratch}_gbench.json",
-                        "--benchmark_out_format=json", f"--records_out={scratch}_records.json",
-                        f"--chart_out={scratch}.svg"], check=True, stdout=subprocess.DEVNULL)
+        done = subprocess.run([exe, f"--summary_out={path}",
+                               f"--benchmark_out={scratch}_gbench.json",
+                               "--benchmark_out_format=json",
+                               f"--records_out={scratch}_records.json", f"--chart_out={scratch}.svg"],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if done.returncode != 0:
+            sys.exit(f"terrain_goals: {exe} exited {done.returncode}:\n{done.stderr}")
         load = os.getloadavg()[0]
         print(f"run {i + 1} of {count}: {path} ({time.strftime('%H:%M:%S', time.gmtime())} UTC, "
               f"load {load:.2f})", flush=True)
