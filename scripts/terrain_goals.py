@@ -8,7 +8,7 @@ by the machine's moment (docs/terrain_shadow.md, "Where it stands").
 A SUMMARY is what `bench_terrain --summary_out` writes (`./penumbra bench terrain` leaves one in
 build/bench/terrain_summary.json); --run calls build/release/tests/bench/bench_terrain N times
 (`./penumbra bench terrain` builds it) and keeps their summaries in DIR (default
-build/bench/terrain_runs). Each goal is a ratio to the case's floor measured in the same run.
+build/bench/terrain_runs; its other outputs in DIR/scratch). Each goal is a ratio to the case's floor measured in the same run.
 A reading is quiet when the probes just before and after its case (the "machine moment" row's
 note) both read the slower vCPU's one-thread sweep at most QUIET_RATIO times its floor and an
 L2 latency of at most QUIET_L2_NS (docs/terrain_shadow_log.md, "Thirteenth round"); otherwise
@@ -111,7 +111,8 @@ def run_bench(count, directory):
     paths = []
     for i in range(count):
         path = os.path.join(directory, f"{stamp}_{i + 1}.json")
-        scratch = os.path.join(directory, "last")
+        scratch = os.path.join(directory, "scratch", "last")  # outputs the goals do not read
+        os.makedirs(os.path.dirname(scratch), exist_ok=True)
         done = subprocess.run([exe, f"--summary_out={path}",
                                f"--benchmark_out={scratch}_gbench.json",
                                "--benchmark_out_format=json",
