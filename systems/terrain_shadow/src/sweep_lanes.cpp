@@ -676,11 +676,12 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
       const __m512 lhs = _mm512_mul_ps(_mm512_sub_ps(b_h, h), _mm512_sub_ps(a_j, j));
       const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
       const __mmask16 pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
-      // Worked out before the pop, beside the comparison (off the path from it to the gather;
-      // docs/terrain_shadow_log.md, "Tenth round"): the lanes whose c a pop leaves stale with a
-      // point below b (depth < 4, size > 3 before it), and the links' index of c's slot (c becomes
-      // b, and the slot b was pushed at holds the point below it; the gather reads refilling lanes
-      // only, whose c is a point of the hull).
+      // Written before the pop, beside the comparison (off the path from it to the gather;
+      // docs/terrain_shadow_log.md, "Tenth round"; GCC 12 sinks the index into the refill path,
+      // and kept here it measured the same: "Twenty-first round"): the lanes whose c a pop leaves
+      // stale with a point below b (depth < 4, size > 3 before it), and the links' index of c's
+      // slot (c becomes b, and the slot b was pushed at holds the point below it; the gather reads
+      // refilling lanes only, whose c is a point of the hull).
       const __mmask16 low =
           _mm512_mask_cmplt_epi32_mask(_mm512_cmpgt_epi32_mask(t16, three), depth, four);
       const __m512i i3 = _mm512_add_epi32(
