@@ -88,6 +88,7 @@ void BM_PeakOps(benchmark::State& state) {
         std::popcount(seen.load(std::memory_order_relaxed)));
   }
   state.counters["best_ns"] = peak.best_ns();
+  state.counters["peak_threads"] = threads;  // the summary compares the two
   state.counters["peak_threads_seen"] = peak.threads_seen();
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(kPeakOpsPerIteration));
 }

@@ -9,8 +9,6 @@
 #include <string>
 #include <vector>
 
-#include <tbb/task_arena.h>
-
 #include "bench_chart.h"
 #include "terrain_records.h"
 
@@ -159,9 +157,10 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
   peak.note =
       "AVX2 FMA chains, 8 lanes; an op = one lane of one instruction; best iteration (also the "
       "stream reads)";
-  // baselines_bench.cpp: fewer threads seen than the arena has means no iteration ran on all.
+  // baselines_bench.cpp: fewer threads seen than the peak ran on means no iteration ran on all.
   const auto seen = r.counter("baseline/peak_ops", "peak_threads_seen");
-  if (seen && *seen < std::min(tbb::this_task_arena::max_concurrency(), 64))
+  const auto threads = r.counter("baseline/peak_ops", "peak_threads");
+  if (seen && threads && *seen < *threads)
     peak.note +=
         "; no iteration ran on every thread (a vCPU stopped): the best one's rate per "
         "thread x the threads";

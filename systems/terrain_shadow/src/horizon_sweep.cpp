@@ -160,8 +160,8 @@ void prepare_output(const data::HeightField& f, const HorizonParams& p, HorizonG
 
 }  // namespace
 
-// Per thread: one task's kernel scratch; one region-sized plane per azimuth (as many floats as
-// the region's records); and the field's padded copies.
+// Per thread, one task's kernel scratch; shared by the threads, one region-sized plane per
+// azimuth (as many floats as the region's records) and the field's padded copies.
 struct SweepWorkspace::Buffers {
   struct Task {
     Scratch scalar;
