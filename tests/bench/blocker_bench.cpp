@@ -38,6 +38,7 @@
 
 #include "bench_registry.h"
 #include "blocker_bench.h"
+#include "common/random_draws.h"
 #include "penumbra/sh/batch.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
@@ -176,8 +177,9 @@ std::vector<Pair> pairs() {
   std::vector<Pair> out(kPairs);
   for (Pair& q : out) {
     q.p = {100 * u(rng) - 50, 100 * u(rng) - 50, 5 * u(rng)};
-    q.n = glm::normalize(glm::vec3(0.4f * g(rng), 0.4f * g(rng), 1.0f));
-    glm::vec3 dir = glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+    const float ny = 0.4f * g(rng), nx = 0.4f * g(rng);  // GCC's order (random_draws.h)
+    q.n = glm::normalize(glm::vec3(nx, ny, 1.0f));
+    glm::vec3 dir = glm::normalize(penumbra::test::draw_zyx<glm::vec3>(rng, g));
     if (glm::dot(dir, q.n) < 0) dir = -dir;
     q.radius = 0.5f + 2.5f * u(rng);
     q.centre = q.p + q.radius * (0.5f + 7.0f * u(rng)) * dir;

@@ -39,6 +39,7 @@
 
 #include "bench_registry.h"
 #include "blocker_bench.h"
+#include "common/random_draws.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/systems/blocker_accumulation/blocker_accumulation.h"
 #include "penumbra/systems/blocker_accumulation/receiver_clusters.h"
@@ -62,11 +63,11 @@ Scene objects_scene() {
   std::uniform_real_distribution<float> xy(-100, 100), z(4, 8), r(0.5f, 1.5f), u(-1, 1);
   Scene scene;
   for (int o = 0; o < 25; ++o) {
-    const glm::vec3 centre(xy(rng), xy(rng), z(rng));
+    const glm::vec3 centre = penumbra::test::draw_zyx<glm::vec3>(rng, xy, xy, z);
     const auto first = static_cast<std::uint32_t>(scene.spheres.size());
     for (int k = 0; k < 16; ++k) {
       glm::vec3 d;
-      do d = glm::vec3(u(rng), u(rng), u(rng));
+      do d = penumbra::test::draw_zyx<glm::vec3>(rng, u);
       while (glm::dot(d, d) > 1);
       scene.spheres.push_back({centre + 3.0f * d, r(rng)});
     }

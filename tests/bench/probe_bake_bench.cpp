@@ -48,6 +48,7 @@
 
 #include "bench_json.h"
 #include "bench_registry.h"
+#include "common/random_draws.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/systems/probe_bake/bake_scene.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
@@ -90,7 +91,8 @@ const LoadedScene& scene(const std::string& name) {
     slot->origins.reserve(kRays);
     slot->dirs.reserve(kRays);
     for (std::size_t i = 0; i < kRays; ++i) {
-      slot->origins.push_back(v.min + (v.max - v.min) * glm::vec3(u(rng), u(rng), u(rng)));
+      slot->origins.push_back(v.min +
+                              (v.max - v.min) * penumbra::test::draw_zyx<glm::vec3>(rng, u));
       const float z = 2.0f * u(rng) - 1.0f, phi = 6.2831853f * u(rng);
       const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
       slot->dirs.emplace_back(r * std::cos(phi), r * std::sin(phi), z);

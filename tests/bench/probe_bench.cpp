@@ -60,6 +60,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "bench_registry.h"
+#include "common/random_draws.h"
 #include "penumbra/components/probe_anchor.h"
 #include "penumbra/components/probe_lighting.h"
 #include "penumbra/components/transform.h"
@@ -99,13 +100,17 @@ std::vector<glm::dvec3> point_set(const std::string& dist, int n) {
   std::uniform_real_distribution<float> u(0, 100);
   std::vector<glm::vec3> p;
   if (dist == "uniform") {
-    for (int i = 0; i < n; ++i) p.emplace_back(u(rng), u(rng), u(rng));
+    for (int i = 0; i < n; ++i) p.push_back(penumbra::test::draw_zyx<glm::vec3>(rng, u));
   } else if (dist == "clustered") {
     std::vector<glm::vec3> centres;
-    for (int c = 0; c < 20; ++c) centres.emplace_back(u(rng), u(rng), u(rng));
+    for (int c = 0; c < 20; ++c) centres.push_back(penumbra::test::draw_zyx<glm::vec3>(rng, u));
     std::normal_distribution<float> g(0, 3);
     std::uniform_int_distribution<int> pick(0, 19);
-    for (int i = 0; i < n; ++i) p.push_back(centres[pick(rng)] + glm::vec3(g(rng), g(rng), g(rng)));
+    for (int i = 0; i < n; ++i) {
+      const glm::vec3 offset =
+          penumbra::test::draw_zyx<glm::vec3>(rng, g);  // before the pick: GCC's order
+      p.push_back(centres[pick(rng)] + offset);
+    }
   } else {
     const int s = static_cast<int>(std::lround(std::cbrt(n)));
     const float h = 100.0f / s;
@@ -250,7 +255,7 @@ const pc::ProbeTetWalk& walk_cloud() {
     std::uniform_real_distribution<float> x(kCloudMin.x, kCloudMax.x), y(kCloudMin.y, kCloudMax.y),
         z(kCloudMin.z, kCloudMax.z), s(0, 1);
     std::vector<glm::vec3> p;
-    for (int i = 0; i < 10'000; ++i) p.emplace_back(x(rng), y(rng), z(rng));
+    for (int i = 0; i < 10'000; ++i) p.push_back(penumbra::test::draw_zyx<glm::vec3>(rng, x, y, z));
     std::vector<float> sh(p.size() * 3 * kBands * kBands);
     for (float& v : sh) v = s(rng);
     pc::ProbeCloudBuildSettings settings;
@@ -272,9 +277,9 @@ struct Movers {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(0, 1), a(-1, 1);
     for (int i = 0; i < n; ++i) {
-      p.push_back(lo + (hi - lo) * glm::vec3(u(rng), u(rng), u(rng)));
+      p.push_back(lo + (hi - lo) * penumbra::test::draw_zyx<glm::vec3>(rng, u));
       glm::vec3 d;
-      do d = glm::vec3(a(rng), a(rng), a(rng));
+      do d = penumbra::test::draw_zyx<glm::vec3>(rng, a);
       while (glm::dot(d, d) > 1 || glm::dot(d, d) < 1e-4f);
       v.push_back(glm::normalize(d) * kSpeed);
     }

@@ -20,6 +20,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "bench_registry.h"
+#include "common/random_draws.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/sh/exp_log.h"
 #include "penumbra/sh/product.h"
@@ -35,7 +36,7 @@ std::vector<glm::vec3> directions() {
   std::mt19937 rng(7);
   std::normal_distribution<float> n(0, 1);
   std::vector<glm::vec3> d(kDirs);
-  for (auto& v : d) v = glm::normalize(glm::vec3(n(rng), n(rng), n(rng)));
+  for (auto& v : d) v = glm::normalize(penumbra::test::draw_zyx<glm::vec3>(rng, n));
   return d;
 }
 

@@ -48,6 +48,7 @@
 
 #include "../spherical_lights/test_meshes.h"
 #include "bench_registry.h"
+#include "common/random_draws.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/sh/product.h"
@@ -179,7 +180,7 @@ void add_surface(Scene& s, std::size_t count, std::uint32_t seed) {
     int axis = 0;
     while (axis < 2 && f >= areas[axis]) f -= areas[axis], ++axis;
     const float side = pick(rng) < 0.5f ? -1.0f : 1.0f;
-    glm::vec3 p(u(rng) * h.x, u(rng) * h.y, u(rng) * h.z), n(0.0f);
+    glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, u) * h, n(0.0f);
     p[axis] = side * h[axis];
     n[axis] = side;
     s.points.push_back(o->pose.rotation * p + o->pose.translation);
@@ -196,12 +197,14 @@ Scene objects_scene() {
                                 {0.1f, 0.7f, 0.7f},  {0.9f, 0.5f, 0.1f}};
   std::vector<glm::vec2> placed;
   while (placed.size() < 8) {
-    const glm::vec2 c(xy(rng), xy(rng));
+    const float cy = xy(rng), cx = xy(rng);  // GCC's order (random_draws.h)
+    const glm::vec2 c(cx, cy);
     bool free = true;
     for (const glm::vec2& q : placed) free = free && glm::length(c - q) > 6.0f;
     if (!free) continue;
     placed.push_back(c);
-    add_object(s, glm::vec3(size(rng), size(rng), size(rng)), glm::ivec3(2), c, turn(rng),
+    const float angle = turn(rng);  // before the size: GCC's order (random_draws.h)
+    add_object(s, penumbra::test::draw_zyx<glm::vec3>(rng, size), glm::ivec3(2), c, angle,
                colours[placed.size() - 1]);
   }
   add_ground(s, 300, 300, 25.0f);

@@ -24,7 +24,9 @@ std::vector<Blocker> mixed_blockers(int count, unsigned seed) {
   std::uniform_real_distribution<float> u(-1, 1);
   std::vector<Blocker> out;
   for (int i = 0; i < count; ++i) {
-    const glm::vec3 c(3 * u(rng), 3 * u(rng), 2 * u(rng) + 0.5f);
+    const float cz = 2 * u(rng) + 0.5f, cy = 3 * u(rng),
+                cx = 3 * u(rng);  // GCC's order (random_draws.h)
+    const glm::vec3 c(cx, cy, cz);
     const float r = 0.05f + 0.8f * (0.5f + 0.5f * u(rng));
     out.push_back({c, r, i % 5 == 0 ? 0.3f : 1.0f});
   }

@@ -13,6 +13,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "common/random_draws.h"
 #include "penumbra/sh/convolution.h"
 #include "penumbra/sh/projection.h"
 #include "synthetic_maps.h"
@@ -109,7 +110,7 @@ TEST(OccludedEnvironmentMaps, IrradianceMatrixMatchesShIrradiance) {
   for (auto& c : L) c[0] = 4.0f;
   const auto M = env::irradiance_matrices(L);
   for (int k = 0; k < 50; ++k) {
-    const glm::vec3 n = glm::normalize(glm::vec3(g(rng), g(rng), g(rng)));
+    const glm::vec3 n = glm::normalize(penumbra::test::draw_zyx<glm::vec3>(rng, g));
     const glm::vec4 v(n, 1.0f);
     for (std::size_t c = 0; c < 3; ++c) {
       const float e_matrix = glm::dot(v, M[c] * v);

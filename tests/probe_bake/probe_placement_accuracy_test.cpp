@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/random_draws.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/systems/probe_bake/probe_bake.h"
@@ -153,7 +154,7 @@ TEST(ValleyAccuracy, ErrorVersusProbeCount) {
   std::uniform_real_distribution<float> ux(0.0f, 188.0f), uz(0.0f, 40.0f);
   PointSet free;
   while (free.points.size() < 120) {
-    const glm::vec3 p(ux(rng), ux(rng), uz(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, ux, ux, uz);
     bool clear = !s.inside(p);
     for (float d : {0.5f, -0.5f})
       for (int k = 0; k < 3; ++k) {

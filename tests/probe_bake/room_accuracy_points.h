@@ -16,6 +16,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "common/random_draws.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
 #include "penumbra/sh/basis.h"
@@ -88,7 +89,7 @@ inline std::array<PointSet, 3> room_point_sets(const BakeScene& s) {
   std::uniform_real_distribution<float> ux(-4.6f, 4.6f), uy(-3.6f, 3.6f), uz(0.3f, 3.7f);
   auto& free = sets[kFree].points;
   while (free.size() < 120) {
-    const glm::vec3 p(ux(rng), uy(rng), uz(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, ux, uy, uz);
     bool clear = !s.inside(p);
     for (float d : {0.1f, -0.1f})
       for (int k = 0; k < 3; ++k) {
@@ -100,9 +101,10 @@ inline std::array<PointSet, 3> room_point_sets(const BakeScene& s) {
   }
   std::uniform_real_distribution<float> lx(0.25f, 1.0f), ly(-3.6f, 1.5f);
   while (sets[kDarkSide].points.size() < 60)
-    sets[kDarkSide].points.emplace_back(lx(rng), ly(rng), uz(rng));
+    sets[kDarkSide].points.push_back(penumbra::test::draw_zyx<glm::vec3>(rng, lx, ly, uz));
   while (sets[kLitSide].points.size() < 60)
-    sets[kLitSide].points.emplace_back(-lx(rng), ly(rng), uz(rng));
+    sets[kLitSide].points.push_back(penumbra::test::draw_zyx<glm::vec3>(rng, lx, ly, uz) *
+                                    glm::vec3(-1, 1, 1));
   return sets;
 }
 

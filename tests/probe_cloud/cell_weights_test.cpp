@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/random_draws.h"
 #include "penumbra/systems/probe_cloud/probe_cloud_build.h"
 
 namespace penumbra::probe_cloud {
@@ -32,7 +33,7 @@ TEST(CellWeights, InnerWeightsAreBarycentric) {
   std::mt19937 rng(1);
   std::uniform_real_distribution<float> u(0.05f, 1.95f);
   for (int i = 0; i < 200; ++i) {
-    const glm::vec3 p(u(rng), u(rng), u(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, u);
     const int c = find_cell(cloud, p);
     ASSERT_GE(c, 0);
     ASSERT_LT(std::uint32_t(c), cloud.inner_count);
@@ -52,7 +53,7 @@ TEST(CellWeights, OuterCellsCoverTheOutsideWithConvexWeights) {
   std::uniform_real_distribution<float> u(-3.0f, 5.0f);
   int outside = 0;
   for (int i = 0; i < 300; ++i) {
-    const glm::vec3 p(u(rng), u(rng), u(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, u);
     const bool inside = p.x > 0 && p.x < 2 && p.y > 0 && p.y < 2 && p.z > 0 && p.z < 2;
     if (inside) continue;
     ++outside;
@@ -109,7 +110,7 @@ TEST(CellWeights, OuterTransformHoldsTheCubic) {
   ASSERT_GT(cloud.cells.size(), cloud.inner_count);
   for (std::uint32_t c = cloud.inner_count; c < cloud.cells.size(); ++c) {
     const glm::mat4& m = cloud.transforms[c];
-    const glm::vec3 p(u(rng), u(rng), u(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, u);
     const glm::vec4 k = m * glm::vec4(p, 1.0f);
     const auto& v = cloud.cells[c].vertices;
     for (double t : {0.0, 0.5, 1.0, 2.0}) {
@@ -135,7 +136,7 @@ TEST(CellWeights, OuterParameterIsTheSmallestRootOfTheCubic) {
   const data::ProbeCloud cloud = build_probe_cloud(pts, {});
   int checked = 0;
   for (int trial = 0; trial < 400; ++trial) {
-    const glm::vec3 p(far(rng), far(rng), far(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, far);
     const int c = find_cell(cloud, p, 1e-4f);
     if (c < 0 || std::uint32_t(c) < cloud.inner_count) continue;
     const double t = outer_cell_parameter(cloud, std::uint32_t(c), p);

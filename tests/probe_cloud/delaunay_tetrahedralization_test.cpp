@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <glm/geometric.hpp>
 
+#include "common/random_draws.h"
 #include "common/stability.h"
 #include "penumbra/systems/probe_cloud/exact_predicates.h"
 
@@ -72,7 +73,7 @@ TEST(DelaunayTetrahedralization, RandomPointsAreDelaunayAndLinear) {
   std::uniform_real_distribution<double> u(-5, 5);
   for (std::size_t n : {100u, 2000u, 20000u}) {
     std::vector<V> p(n);
-    for (V& q : p) q = V(u(rng), u(rng), u(rng));
+    for (V& q : p) q = penumbra::test::draw_zyx<V>(rng, u);
     const auto d = delaunay_tetrahedralize(p);
     expect_valid(p, d);
     // Euler for a triangulated ball: V - E + F - T = 1, with 2F_hull = 3 * hull faces... count
@@ -105,12 +106,12 @@ TEST(DelaunayTetrahedralization, HullWithCoplanarFacesAndPointsOnThem) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(0, 1);
   for (int i = 0; i < 300; ++i) {
-    V q(u(rng), u(rng), u(rng));
+    V q = penumbra::test::draw_zyx<V>(rng, u);
     q[i % 3] = (i / 3) % 2;  // on a face of the unit cube
     p.push_back(q);
   }
   for (int i = 0; i < 8; ++i) p.push_back(V(i & 1, (i >> 1) & 1, (i >> 2) & 1));
-  for (int i = 0; i < 100; ++i) p.push_back(V(u(rng), u(rng), u(rng)));
+  for (int i = 0; i < 100; ++i) p.push_back(penumbra::test::draw_zyx<V>(rng, u));
   const auto d = delaunay_tetrahedralize(p);
   expect_valid(p, d);
   // Hull vertices: every point on the cube's surface is on the hull.

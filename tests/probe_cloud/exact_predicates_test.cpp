@@ -4,6 +4,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include "common/random_draws.h"
 #include "common/stability.h"
 
 namespace penumbra::probe_cloud {
@@ -91,7 +92,7 @@ TEST(ExactPredicates, AgreesWithIntegerReference) {
   // Small integer boxes make zeros frequent; large coordinates make the filter fail often.
   for (int scale : {3, 1 << 18}) {
     std::uniform_int_distribution<int> coord(-scale, scale);
-    auto pt = [&] { return V(coord(rng), coord(rng), coord(rng)); };
+    auto pt = [&] { return penumbra::test::draw_zyx<V>(rng, coord); };
     int zeros = 0;
     for (int i = 0; i < 20000; ++i) {
       const V a = pt(), b = pt(), c = pt(), d = pt(), e = pt();

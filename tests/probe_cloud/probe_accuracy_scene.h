@@ -32,6 +32,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "common/random_draws.h"
 #include "penumbra/data/probe_cloud.h"
 #include "penumbra/reference/estimators.h"
 #include "penumbra/reference/scene.h"
@@ -240,7 +241,7 @@ inline std::vector<glm::vec3> random_points(int count, std::uint32_t seed) {
   std::uniform_real_distribution<float> x(kVolumeMin.x, kVolumeMax.x),
       y(kVolumeMin.y, kVolumeMax.y), z(kVolumeMin.z, kVolumeMax.z);
   std::vector<glm::vec3> out;
-  for (int i = 0; i < count; ++i) out.emplace_back(x(rng), y(rng), z(rng));
+  for (int i = 0; i < count; ++i) out.push_back(penumbra::test::draw_zyx<glm::vec3>(rng, x, y, z));
   return out;
 }
 
@@ -292,7 +293,7 @@ inline Queries make_queries(const reference::Scene& scene, int count, int sample
   const glm::vec3 lo = kVolumeMin - glm::vec3(kMargin), hi = kVolumeMax + glm::vec3(kMargin);
   std::uniform_real_distribution<float> x(lo.x, hi.x), y(lo.y, hi.y), z(0.1f, hi.z);
   while (static_cast<int>(q.points.size()) < count) {
-    const glm::vec3 p(x(rng), y(rng), z(rng));
+    const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, x, y, z);
     if (!in_box(p, 0.05f)) q.points.push_back(p);
   }
   std::vector<reference::Receiver> receivers;

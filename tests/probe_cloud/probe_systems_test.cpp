@@ -15,6 +15,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/frame_work.h"
+#include "common/random_draws.h"
 #include "common/stability.h"
 #include "penumbra/components/frame_time.h"
 #include "penumbra/components/probe_anchor.h"
@@ -100,7 +101,7 @@ TEST(ProbeSystems, MovingEntitiesGetTheInterpolatedShAndKeepTheirCells) {
   std::mt19937 rng(34);
   std::uniform_real_distribution<float> step(-0.1f, 0.1f);
   for (int frame = 0; frame < 3; ++frame) {
-    for (glm::vec3& p : positions) p += glm::vec3(step(rng), step(rng), step(rng));
+    for (glm::vec3& p : positions) p += penumbra::test::draw_zyx<glm::vec3>(rng, step);
     s.move(positions);
     s.run();
     EXPECT_EQ(s.report().entities, positions.size());

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/random_draws.h"
 #include "common/stability.h"
 #include "probe_walk_test_util.h"
 
@@ -57,13 +58,13 @@ void random_queries(const ProbeTetWalk& walk, float lo, float hi, int count, std
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> u(lo, hi), jitter(-0.3f, 0.3f);
   std::int32_t cached = -1;
-  glm::vec3 p(u(rng), u(rng), u(rng));
+  glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, u);
   for (int i = 0; i < count; ++i) {
     // Half teleports (a new random point), half small moves from the cached cell.
     if (i % 2 == 0)
       p = {u(rng), u(rng), u(rng)};
     else
-      p += glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+      p += penumbra::test::draw_zyx<glm::vec3>(rng, jitter);
     ProbeWalkResult r;
     ASSERT_NO_FATAL_FAILURE(check_against_brute_force(walk, p, cached, &r));
     cached = r.cell;
@@ -158,7 +159,7 @@ TEST(ProbeTetWalk, AffineShFieldIsReproducedInsideTheHull) {
     std::int32_t cached = -1;
     int inside = 0;
     for (int q = 0; q < 2000; ++q) {
-      const glm::vec3 p(u(rng), u(rng), u(rng));
+      const glm::vec3 p = penumbra::test::draw_zyx<glm::vec3>(rng, u);
       const ProbeWalkResult r = walk.locate(p, cached);
       cached = r.cell;
       if (static_cast<std::uint32_t>(r.cell) >= walk.cloud().inner_count) continue;
@@ -421,8 +422,8 @@ TEST(ProbeTetWalk, FarFromTheOriginAtOneMetreSpacing) {
   glm::vec3 p = offset + glm::vec3(3.5f);
   int fallbacks = 0;
   for (int i = 0; i < 600; ++i) {
-    p = (i % 10 == 0) ? offset + glm::vec3(u(rng), u(rng), u(rng))
-                      : p + glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    p = (i % 10 == 0) ? offset + penumbra::test::draw_zyx<glm::vec3>(rng, u)
+                      : p + penumbra::test::draw_zyx<glm::vec3>(rng, jitter);
     ProbeWalkResult r;
     ASSERT_NO_FATAL_FAILURE(check_against_brute_force(walk, p, cached, &r));
     cached = r.cell;
@@ -452,8 +453,8 @@ TEST(ProbeTetWalk, KilometreStripWithSparseProbes) {
   std::int32_t cached = -1;
   glm::vec3 p = origin + glm::vec3(500.0f, 1.0f, 0.5f);
   for (int i = 0; i < 120; ++i) {
-    p = (i % 4 == 0) ? origin + glm::vec3(ux(rng), uy(rng), uz(rng))
-                     : p + glm::vec3(jitter(rng), jitter(rng), jitter(rng));
+    p = (i % 4 == 0) ? origin + penumbra::test::draw_zyx<glm::vec3>(rng, ux, uy, uz)
+                     : p + penumbra::test::draw_zyx<glm::vec3>(rng, jitter);
     ProbeWalkResult r;
     ASSERT_NO_FATAL_FAILURE(check_against_brute_force(walk, p, cached, &r));
     cached = r.cell;

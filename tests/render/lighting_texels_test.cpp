@@ -1,6 +1,7 @@
 // RGBM packing of the terrain's lighting texels (lighting_texels.h): the stated precision, dark
 // texels keeping relative precision, and bad input.
 #include "penumbra/render/lighting_texels.h"
+#include "common/random_draws.h"
 
 #include <cmath>
 #include <limits>
@@ -26,8 +27,10 @@ TEST(LightingTexels, RoundTripWithinTheStatedBound) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> decade(-4.0f, 0.0f), tint(0.3f, 1.0f);
   std::vector<glm::vec3> rgb(5000);
-  for (auto& c : rgb)
-    c = std::pow(10.0f, decade(rng)) * 20.0f * glm::vec3(tint(rng), tint(rng), 1.0f);
+  for (auto& c : rgb) {
+    const float ty = tint(rng), tx = tint(rng), d = decade(rng);  // GCC's order (random_draws.h)
+    c = std::pow(10.0f, d) * 20.0f * glm::vec3(tx, ty, 1.0f);
+  }
   RgbmPacking p;
   const auto packed = pack(rgb, &p);
   float largest = 0.0f;
@@ -59,7 +62,7 @@ TEST(LightingTexels, LanesEqualOneAtATime) {
     std::vector<glm::vec3> rgb(n);
     for (std::size_t i = 0; i < n; ++i) {
       const float level = std::pow(10.0f, -4.0f + 6.0f * u(rng));  // 1e-4 .. 100
-      rgb[i] = level * glm::vec3(u(rng), u(rng), u(rng));
+      rgb[i] = level * penumbra::test::draw_zyx<glm::vec3>(rng, u);
       if (i % 97 == 3) rgb[i].y = std::numeric_limits<float>::quiet_NaN();
       if (i % 89 == 5) rgb[i].x = -1.0f;
       if (i % 83 == 7) rgb[i] = glm::vec3(0.0f);

@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include "common/constants.h"
+#include "common/random_draws.h"
 #include "penumbra/sh/basis.h"
 #include "penumbra/sh/projection.h"
 
@@ -16,7 +17,7 @@ namespace penumbra::sh::test {
 inline glm::vec3 random_direction(std::mt19937& rng) {
   std::normal_distribution<float> n(0, 1);
   for (;;) {
-    const glm::vec3 v(n(rng), n(rng), n(rng));
+    const glm::vec3 v = penumbra::test::draw_zyx<glm::vec3>(rng, n);
     const float len = glm::length(v);
     if (len > 1e-3f) return v / len;
   }

@@ -110,7 +110,8 @@ TEST(LightShading, CapTransferMatchesQuadrature) {
     const glm::dvec3 d = dist * direction(std::min(e, kPiD / 2), phi);
     const double radius = dist * std::sin(half);
     // Normals up to 80 degrees from the zenith; horizons near the cap's elevation range.
-    const glm::dvec3 n = direction(kPiD / 2 - 1.4 * u01(rng), 2 * kPiD * u01(rng));
+    const double azimuth = 2 * kPiD * u01(rng);  // before the elevation: GCC's order
+    const glm::dvec3 n = direction(kPiD / 2 - 1.4 * u01(rng), azimuth);
     const double omega = std::clamp(e + (2.4 * u01(rng) - 1.2) * half, -kPiD / 2, kPiD / 2);
     LightCap cap;
     ASSERT_TRUE(make_light_cap(glm::vec3(d), static_cast<float>(radius), cap));
@@ -333,8 +334,9 @@ void random_receiver(std::mt19937& rng, int trial, Lanes& in, int l, Horizon hor
   in.dx[l] = dist * std::cos(e) * std::cos(phi);
   in.dy[l] = dist * std::cos(e) * std::sin(phi);
   in.dz[l] = dist * std::sin(e);
-  const glm::vec3 n = glm::normalize(
-      glm::vec3(2.0f * (u01(rng) - 0.5f), 2.0f * (u01(rng) - 0.5f), 1.0f - 0.8f * u01(rng)));
+  const float nz = 1.0f - 0.8f * u01(rng), ny = 2.0f * (u01(rng) - 0.5f),
+              nx = 2.0f * (u01(rng) - 0.5f);  // GCC's order (random_draws.h)
+  const glm::vec3 n = glm::normalize(glm::vec3(nx, ny, nz));
   in.nx[l] = n.x;
   in.ny[l] = n.y;
   in.nz[l] = n.z;

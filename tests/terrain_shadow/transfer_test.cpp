@@ -19,6 +19,7 @@
 #include "penumbra/sh/zh.h"
 #include "penumbra/systems/terrain_shadow/wedge_table.h"
 
+#include "common/random_draws.h"
 #include "common/stability.h"
 #include "terrain_test_util.h"
 
@@ -58,7 +59,7 @@ TEST(DiffuseTransfer, IsTheIntegralOfTheBandLimitedProduct) {
   for (int trial = 0; trial < 4; ++trial) {
     sh::Coeffs<4> light, vis;
     for (int i = 0; i < 16; ++i) light[i] = u(rng), vis[i] = u(rng);
-    const glm::vec3 n = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 n = glm::normalize(penumbra::test::draw_zyx<glm::vec3>(rng, u));
     const auto cosine = sh::rotate_zh<4>(sh::zh_clamped_cosine<4>(), n);
     float expected = 0;
     for (std::size_t d = 0; d < q.directions.size(); ++d) {
@@ -79,7 +80,7 @@ TEST(ExactTransfer, IsTheProjectionOfVisibilityTimesCosine) {
   for (int trial = 0; trial < 4; ++trial) {
     sh::Coeffs<5> vis;
     for (float& v : vis) v = u(rng);
-    const glm::vec3 n = glm::normalize(glm::vec3(u(rng), u(rng), u(rng)));
+    const glm::vec3 n = glm::normalize(penumbra::test::draw_zyx<glm::vec3>(rng, u));
     const auto expected = sh::project<4>(
         [&](const glm::vec3& w) { return sh::evaluate<5>(vis, w) * glm::dot(n, w); }, q);
     EXPECT_LT(max_abs_diff<4>(exact_diffuse_transfer<4>(vis, n), expected), 2e-5f);
@@ -133,7 +134,9 @@ void expect_eight_lanes_equal_eight_calls(std::mt19937& rng) {
   glm::vec3 normals[8];
   for (int l = 0; l < 8; ++l) {
     for (float& c : vis[l]) c = u(rng);
-    normals[l] = glm::normalize(glm::vec3(u(rng), u(rng), 0.2f + std::abs(u(rng))));
+    const float nz = 0.2f + std::abs(u(rng)), ny = u(rng),
+                nx = u(rng);  // GCC's order (random_draws.h)
+    normals[l] = glm::normalize(glm::vec3(nx, ny, nz));
   }
   sh::Coeffs<N> out[8];
   exact_diffuse_transfer_8<N>(vis, normals, out);
