@@ -117,6 +117,8 @@ int main(int argc, char** argv) {
                 points.sh.empty() ? "no SH: zeros" : "with SH");
     std::printf("  merged duplicates  %zu (closer than %g m)\n", report.merged_duplicates,
                 static_cast<double>(settings.merge_distance));
+    std::printf("  snapped to faces   %zu coordinates (within %g of the box's shortest side)\n",
+                report.snapped_coordinates, static_cast<double>(settings.face_snap));
     std::printf("  probes             %zu, %d bands\n", n, cloud.bands);
     std::printf("  tetrahedra         %zu", report.tetrahedra);
     if (n > 0) std::printf(" (%.3f per probe)", static_cast<double>(report.tetrahedra) / n);

@@ -100,6 +100,26 @@ glm::dvec3 pos(const data::ProbeCloud& cloud, std::int32_t i) {
 
 }  // namespace
 
+std::size_t snap_to_box_faces(std::span<glm::vec3> positions, double relative) {
+  if (positions.empty() || !(relative > 0)) return 0;
+  glm::vec3 lo = positions[0], hi = lo;
+  for (const glm::vec3& p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  // The shortest side sets the tolerance: a long strip's far ends do not widen its narrow axes'.
+  const double side = std::min({double(hi.x) - lo.x, double(hi.y) - lo.y, double(hi.z) - lo.z});
+  const double tolerance = relative * side;
+  std::size_t moved = 0;
+  for (int k = 0; k < 3; ++k) {
+    for (glm::vec3& p : positions) {
+      if (p[k] != lo[k] && double(p[k]) - lo[k] <= tolerance) {
+        p[k] = lo[k], ++moved;
+      } else if (p[k] != hi[k] && double(hi[k]) - p[k] <= tolerance) {
+        p[k] = hi[k], ++moved;
+      }
+    }
+  }
+  return moved;
+}
+
 glm::mat4 probe_cell_transform(const data::ProbeCloud& cloud, std::uint32_t cell) {
   const data::ProbeCell& c = cloud.cells[cell];
   const glm::dvec3 p0 = pos(cloud, c.vertices[0]), p1 = pos(cloud, c.vertices[1]),
@@ -160,11 +180,13 @@ data::ProbeCloud build_probe_cloud(std::span<const glm::vec3> positions, std::sp
 
   data::ProbeCloud cloud;
   cloud.bands = bands;
+  std::vector<glm::vec3> snapped(positions.begin(), positions.end());
+  const std::size_t moved = snap_to_box_faces(snapped, settings.face_snap);
   std::vector<std::uint32_t> kept;
-  std::vector<std::uint32_t> map = merge_duplicates(positions, settings.merge_distance, kept);
+  std::vector<std::uint32_t> map = merge_duplicates(snapped, settings.merge_distance, kept);
   const std::size_t n = kept.size();
   cloud.positions.resize(n);
-  for (std::size_t k = 0; k < n; ++k) cloud.positions[k] = positions[kept[k]];
+  for (std::size_t k = 0; k < n; ++k) cloud.positions[k] = snapped[kept[k]];
   cloud.sh.assign(n * coeffs, 0.0f);
   if (!sh.empty()) {  // the mean SH of the probes merged into each kept one
     std::vector<std::uint32_t> count(n, 0);
@@ -215,6 +237,7 @@ data::ProbeCloud build_probe_cloud(std::span<const glm::vec3> positions, std::sp
   if (report != nullptr) {
     report->input_points = positions.size();
     report->merged_duplicates = positions.size() - n;
+    report->snapped_coordinates = moved;
     report->tetrahedra = dt.finite_count;
     report->outer_cells = dt.hull_count();
     report->kept_index = std::move(map);
