@@ -202,8 +202,10 @@ int main(int argc, char** argv) {
         static_cast<unsigned long long>(r.rays),
         placed ? static_cast<double>(r.rays) / static_cast<double>(placed) : 0.0,
         r.capture_seconds > 0 ? static_cast<double>(r.rays) / r.capture_seconds / 1e6 : 0.0);
-    std::printf("tetrahedra       %u inner, %zu outer cells\n", cloud.inner_count,
-                cloud.cells.size() - cloud.inner_count);
+    std::printf(
+        "tetrahedra       %u inner, %zu outer cells (%zu merged probes, %zu coordinates "
+        "snapped to the box's faces)\n",
+        cloud.inner_count, cloud.cells.size() - cloud.inner_count, r.merged, r.snapped);
     std::printf(
         "time             %.2f s (capture %.2f, validity %.2f, edge rays %.2f, build %.3f)\n",
         r.total_seconds, r.capture_seconds, r.validity_seconds, r.edge_seconds, r.build_seconds);

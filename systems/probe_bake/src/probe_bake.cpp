@@ -315,6 +315,7 @@ data::ProbeCloud bake_probe_cloud(const BakeScene& scene, const reference::Scene
   probe_cloud::ProbeCloudBuildReport br;
   data::ProbeCloud cloud = probe_cloud::build_probe_cloud(positions, sh, build, &br);
   rep.merged = br.merged_duplicates;
+  rep.snapped = br.snapped_coordinates;
   const auto validation = probe_cloud::validate_probe_cloud(cloud);
   rep.valid_cloud = validation.ok();
   rep.validation_errors = validation.errors;

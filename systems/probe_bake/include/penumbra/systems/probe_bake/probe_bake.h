@@ -79,6 +79,7 @@ struct BakeReport {
   double mean_rel_std_error = 0;  // mean over lit captured probes of dc_std_error / dc
   double max_rel_std_error = 0;
   std::size_t merged = 0;    // probes merged by build_probe_cloud (offset onto another)
+  std::size_t snapped = 0;   // coordinates build_probe_cloud moved onto the box's faces
   bool valid_cloud = false;  // validate_probe_cloud found nothing
   std::vector<std::string> validation_errors;
 };
