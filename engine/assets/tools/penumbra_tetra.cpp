@@ -2,8 +2,8 @@
 // tetrahedralizes a probe point file (probe_points.h: x y z per line, optionally 3 N^2 SH
 // values after them) into a probe cloud file (probe_cloud_file.h) with
 // probe_cloud::build_probe_cloud, runs probe_cloud::validate_probe_cloud on the result and
-// writes it atomically; prints the counts (points, merged duplicates, probes, tetrahedra, hull
-// faces = outer cells) and the times. Exit 1 on a load, build, validation or write error (the
+// writes it atomically; prints the counts (points, merged duplicates, coordinates snapped onto
+// the bounding box's faces, probes, tetrahedra, hull faces = outer cells) and the times. Exit 1 on a load, build, validation or write error (the
 // message names the file and the reason; nothing is written), 2 on bad arguments.
 // Built by systems/CMakeLists.txt, since it links the probe-cloud system.
 #include <charconv>
