@@ -216,7 +216,11 @@ TEST(ProbeCloudBuild, SnapToBoxFacesMovesOnlyCoordinatesNearTheFaces) {
   EXPECT_EQ(p[4].z, 1e-3f);  // 5e-4 of the shortest side: left where it is
   EXPECT_EQ(p[5], glm::vec3(4, 2, 1));
   EXPECT_EQ(snap_to_box_faces(p, 1e-4), 0u);  // nothing left to move
+  p[2].x = 1e-5f;
   EXPECT_EQ(snap_to_box_faces(p, 0.0), 0u);
+  EXPECT_EQ(snap_to_box_faces(p, -1e-4), 0u);
+  EXPECT_EQ(snap_to_box_faces(p, std::numeric_limits<double>::quiet_NaN()), 0u);
+  EXPECT_EQ(p[2].x, 1e-5f);
   std::vector<glm::vec3> flat = {{0, 0, 0}, {1, 0, 0}, {1e-7f, 1, 0}};  // z side 0: tolerance 0
   EXPECT_EQ(snap_to_box_faces(flat, 1e-4), 0u);
   EXPECT_EQ(flat[2].x, 1e-7f);

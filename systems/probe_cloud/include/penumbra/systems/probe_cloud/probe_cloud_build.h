@@ -20,7 +20,7 @@ struct ProbeCloudBuildSettings {
   float merge_distance = 1e-3f;          // metres: probes closer than this are merged (duplicates)
   // Coordinates closer than this fraction of the bounding box's shortest side to one of the box's
   // faces are moved onto it, so that a grid's outer layer moved by a hair keeps flat hull faces
-  // (snap_to_box_faces below); 0 moves none.
+  // (snap_to_box_faces below); 0, a negative value or NaN moves none.
   float face_snap = 1e-4f;
 };
 
