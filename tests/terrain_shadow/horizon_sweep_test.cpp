@@ -110,6 +110,21 @@ TEST(HorizonSweep, LaneKernelEqualsTheScalarKernel) {
   }
 }
 
+TEST(HorizonSweep, PlanesPassBlocksOfEverySizeEqualTheScalarKernel) {
+  // The planes pass copies x-major azimuths in 16 x 16 blocks on AVX-512, two 8 x 8 blocks where
+  // only 8 columns are left, and 8 x 8 blocks for the rows after the last 16: a region of 40 x 40
+  // texels (40 = 2 x 16 + 8 both ways) and one of 24 x 56 take every kind.
+  const auto f = unit_cell_mountains(64, 5);
+  HorizonParams p;
+  p.azimuths = 16;
+  for (const TexelRect r : {TexelRect{3, 7, 43, 47}, TexelRect{20, 2, 44, 58}}) {
+    HorizonGrid lanes, scalar;
+    sweep_horizons(f, p, r, lanes);
+    sweep_horizons_scalar(f, p, r, scalar);
+    EXPECT_LE(max_abs_difference(lanes, scalar), 1e-6f) << r.x0 << "," << r.y0;
+  }
+}
+
 TEST(HorizonSweep, LineInterpolationErrorAgainstEachTexelsOwnRay) {
   // What the sweep gives up for sharing lines: a texel's horizon is blended from the two lines
   // less than a cell either side of it. Measured on 48x48 mountains, 32 azimuths: mean 0.0049

@@ -865,7 +865,7 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
   int vb = 0;
 #ifdef PENUMBRA_SWEEP_LANES_AVX512
   // 16 x 16 blocks where both halves' columns copy: a third fewer shuffles per float than two
-  // 8 x 8 transposes (3% of the sweep: docs/terrain_shadow_log.md, "Twenty-second round").
+  // 8 x 8 transposes (1-3% of the sweep: docs/terrain_shadow_log.md, "Twenty-second round").
   for (; vb + 16 <= nv8; vb += 16)
     for (int u = 0; u < nu8; u += 8) {
       if (u + 16 <= nu8 && sc.unit[static_cast<std::size_t>(u / 8)] &&
