@@ -638,7 +638,8 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
   // A fourth point, d, below c, and per lane how many of a, b, c, d are current (the rest are
   // refilled from the links only when a pop needs them: at least min(size, 3) are current).
   __m512 d_h = c_h, d_j = c_j;
-  const __m512i three = _mm512_set1_epi32(3), four = _mm512_set1_epi32(4);
+  const __m512i two = _mm512_set1_epi32(2), three = _mm512_set1_epi32(3),
+                four = _mm512_set1_epi32(4);
   __m512i depth = _mm512_maskz_min_epi32(kAll, t16, three);
   auto split = [&] {  // back into the 8-lane registers
     _mm512_store_si512(lanes.size, t16);
@@ -670,12 +671,27 @@ void Sweep::walk16(const LaneScratch& sc, int s_begin, int steps, int s_take, in
     const __mmask16 valid = static_cast<__mmask16>(sc.step_ok[s]);
     const __m512 h = _mm512_loadu_ps(sc.step_h.data() + at);
     const __m512 j = _mm512_set1_ps(static_cast<float>(frame.step * u));
-    // Pop while the second point is at least as steep as the top (Timonen 2010, sec. 4).
-    for (;;) {
-      const __mmask16 can = _mm512_mask_cmpgt_epi32_mask(valid, t16, one);
-      const __m512 lhs = _mm512_mul_ps(_mm512_sub_ps(b_h, h), _mm512_sub_ps(a_j, j));
-      const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
-      const __mmask16 pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
+    // Pop while the second point is at least as steep as the top (Timonen 2010, sec. 4). The
+    // second round's test is made here, beside the first, off the rounds' chain: on the lanes
+    // the first round pops, b against c (current wherever the hull holds three points), the
+    // points that pop moves into a and b; the same products, so the same floats
+    // (docs/terrain_shadow_log.md, "Twenty-fourth round").
+    const __mmask16 second = _mm512_mask_cmp_ps_mask(
+        _mm512_mask_cmpgt_epi32_mask(valid, t16, two),
+        _mm512_mul_ps(_mm512_sub_ps(c_h, h), _mm512_sub_ps(b_j, j)),
+        _mm512_mul_ps(_mm512_sub_ps(b_h, h), _mm512_sub_ps(c_j, j)), _CMP_GE_OQ);
+    __mmask16 popped = 0;  // the last round's pops
+    for (int round = 0;; ++round) {
+      __mmask16 pop;
+      if (round == 1) {
+        pop = popped & second;
+      } else {
+        const __mmask16 can = _mm512_mask_cmpgt_epi32_mask(valid, t16, one);
+        const __m512 lhs = _mm512_mul_ps(_mm512_sub_ps(b_h, h), _mm512_sub_ps(a_j, j));
+        const __m512 rhs = _mm512_mul_ps(_mm512_sub_ps(a_h, h), _mm512_sub_ps(b_j, j));
+        pop = _mm512_mask_cmp_ps_mask(can, lhs, rhs, _CMP_GE_OQ);
+      }
+      popped = pop;
       // Written before the pop, beside the comparison (off the path from it to the gather;
       // docs/terrain_shadow_log.md, "Tenth round"; GCC 12 sinks the index into the refill path,
       // and kept here it measured the same: "Twenty-first round"): the lanes whose c a pop leaves
