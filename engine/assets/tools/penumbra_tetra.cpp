@@ -3,9 +3,10 @@
 // values after them) into a probe cloud file (probe_cloud_file.h) with
 // probe_cloud::build_probe_cloud, runs probe_cloud::validate_probe_cloud on the result and
 // writes it atomically; prints the counts (points, merged duplicates, coordinates snapped onto
-// the bounding box's faces, probes, tetrahedra, hull faces = outer cells) and the times. Exit 1 on a load, build, validation or write error (the
-// message names the file and the reason; nothing is written), 2 on bad arguments.
-// Built by systems/CMakeLists.txt, since it links the probe-cloud system.
+// the bounding box's faces, probes, tetrahedra, hull faces = outer cells) and the times. Exit 1 on
+// a load, build, validation or write error (the message names the file and the reason; nothing is
+// written), 2 on bad arguments. Built by systems/CMakeLists.txt, since it links the probe-cloud
+// system.
 #include <charconv>
 #include <chrono>
 #include <cmath>

@@ -33,20 +33,21 @@ struct ProbeCloudBuildReport {
 
 // Moves every coordinate of `positions` that lies within `relative` times the bounding box's
 // shortest side of one of the box's faces onto that face (a flat box moves nothing); returns how
-// many coordinates moved. Why: the hull of a grid whose
-// outer layer is off its planes by a hair (rounding, another compiler, a validity move) is not
-// its flat faces' small triangles but long slivers across the whole face, and the outer cells
-// on them extrapolate one side of a wall onto the other (docs/probe_cloud.md, "Nearly flat hull
-// faces"). Faces that are flat but not axis-aligned are not helped.
+// many coordinates moved. Why: the hull of a grid whose outer layer is off its planes by a hair
+// (rounding, another compiler, a validity move) is not its flat faces' small triangles but long
+// slivers across the whole face, and the outer cells on them extrapolate one side of a wall onto
+// the other (docs/probe_cloud.md, "Nearly flat hull faces"). Faces that are flat but not
+// axis-aligned are not helped.
 std::size_t snap_to_box_faces(std::span<glm::vec3> positions, double relative);
 
 // Tetrahedralizes `positions` into a cloud with the given SH (probe-major, 3 * bands^2 floats
 // per point; empty = zeros). Coordinates near the bounding box's faces are moved onto them first
-// (ProbeCloudBuildSettings::face_snap); the cloud's positions are the moved ones. Throws std::invalid_argument naming the index for NaN/inf positions
-// or a wrong sh size or bands. Probes closer than merge_distance to an earlier kept probe are
-// merged into it (it keeps its position; its SH becomes the mean of the merged probes); 0 merges
-// exact duplicates only. 0-3 probes, or all coplanar/collinear: a cloud with the probes, their SH
-// and zero hull normals but no cells (inner_count == 0).
+// (ProbeCloudBuildSettings::face_snap); the cloud's positions are the moved ones. Throws
+// std::invalid_argument naming the index for NaN/inf positions or a wrong sh size or bands. Probes
+// closer than merge_distance to an earlier kept probe are merged into it (it keeps its position;
+// its SH becomes the mean of the merged probes); 0 merges exact duplicates only. 0-3 probes, or all
+// coplanar/collinear: a cloud with the probes, their SH and zero hull normals but no cells
+// (inner_count == 0).
 data::ProbeCloud build_probe_cloud(std::span<const glm::vec3> positions, std::span<const float> sh,
                                    const ProbeCloudBuildSettings& settings = {},
                                    ProbeCloudBuildReport* report = nullptr);
