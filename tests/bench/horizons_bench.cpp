@@ -4,12 +4,15 @@
 //   part/horizons/sweep/n_phi:32               horizon sweep over every texel (the default)
 //   part/horizons/march/n_phi:32/ls:4/lo:2     horizon march on the pyramid, as TerrainShadowing
 //                                              runs it: bands of 8 rows in parallel
+//   part/horizons/sweep_avx2/n_phi:32          the sweep with its AVX2 copy forced (what a CPU
+//                                              without AVX-512 runs; the same floats)
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
 #include "penumbra/systems/terrain_shadow/height_pyramid.h"
 #include "penumbra/systems/terrain_shadow/horizon_march.h"
 #include "penumbra/systems/terrain_shadow/horizon_sweep.h"
+#include "sweep_lanes.h"  // force_sweep_isa
 #include "terrain_bench_common.h"
 
 namespace penumbra::terrain_bench {
@@ -43,6 +46,14 @@ void BM_HorizonsSweep(benchmark::State& state) {
   set_work(state, pairs * kSweepOpsPerPair, pairs * 4);
 }
 
+// The same with the AVX2 copy of the sweep's kernels forced (on a CPU without AVX-512 it runs
+// anyway, and this case equals the one above).
+void BM_HorizonsSweepAvx2(benchmark::State& state) {
+  ts::detail::force_sweep_isa(ts::detail::SweepIsa::kAvx2);
+  BM_HorizonsSweep(state);
+  ts::detail::force_sweep_isa(std::nullopt);
+}
+
 void BM_HorizonsMarch(benchmark::State& state) {
   const auto field = scene_field(kSize);
   const ts::HorizonParams p = env_horizon_params(32);
@@ -72,6 +83,10 @@ void register_horizon_parts() {
   pb::add("part/horizons/sweep/n_phi:32", runs(10, kCaseReps), BM_HorizonsSweep);
   register_case("part/horizons/sweep/n_phi:32", "horizons alone, sweep n_phi=32", "sweep",
                 "{\"n_phi\": 32, \"part\": \"horizons\"}", kSize, std::nullopt);
+  pb::add("part/horizons/sweep_avx2/n_phi:32", runs(5, kCaseReps), BM_HorizonsSweepAvx2);
+  register_case("part/horizons/sweep_avx2/n_phi:32", "AVX2 copy forced: horizons, sweep n_phi=32",
+                "sweep", "{\"n_phi\": 32, \"part\": \"horizons\", \"isa\": \"avx2\"}", kSize,
+                std::nullopt);
   pb::add("part/horizons/march/n_phi:32/ls:4/lo:2", runs(5, kCaseReps), BM_HorizonsMarch);
   register_case("part/horizons/march/n_phi:32/ls:4/lo:2", "horizons alone, march ls=4 lo=2",
                 "march", "{\"n_phi\": 32, \"ls\": 4, \"lo\": 2, \"part\": \"horizons\"}", kSize,

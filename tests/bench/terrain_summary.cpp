@@ -96,6 +96,9 @@ pb::Summary summarize(const pb::Results& r, const Outputs& out) {
       note = "thesis GTX 560: ~16 ms per light";
     } else if (c.size == kBigSize) {
       note = "Timonen 2010 GTX 280: ~43 ms";
+    } else if (c.key == "part/horizons/sweep_avx2/n_phi:32") {
+      baseline = ms("part/horizons/sweep/n_phi:32");
+      note = "baseline: the same sweep on the copy the CPU chose (AVX-512 where it has it)";
     } else if (c.key == "part/pyramid/ls:4") {
       note = "thesis GTX 560: 1.7 ms";
     }
