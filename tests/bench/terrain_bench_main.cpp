@@ -14,8 +14,8 @@
 //                  only: the default lights sweep), horizons, transfer. Sweep (default,
 //                  n_phi = 32), march (ls 4, lo 2), brute force (1 iteration). Goal <= 10 ms
 //                  (thesis table 6.6 on a GTX 560: 1.7 ms pyramid + 6.7 ms environment pass).
-//  - part/...      the breakdown: pyramid alone, horizons alone (sweep, march):
-//                  horizons_bench.cpp; transfer alone: transfer_bench.cpp.
+//  - part/...      the breakdown: pyramid alone, horizons alone (sweep, march, the sweep with
+//                  its AVX2 copy forced): horizons_bench.cpp; transfer alone: transfer_bench.cpp.
 //  - light/...     light_bench.cpp: add_spherical_light, 1 and 4 lights with the default shading
 //                  (cap horizon: the horizon towards the light, exact cap integral), 1 light
 //                  with the thesis's SH wedges (16 azimuths). Goal <= 5 ms per light (thesis:
