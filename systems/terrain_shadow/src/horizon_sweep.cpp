@@ -254,17 +254,27 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
           sweep_azimuth(field, params, region, k, task.scalar, plane);
         }
       });
-  tbb::parallel_for(0, blocks, [&](int block) {
+  // The records in bands of rows as well, at least eight tasks: with one task a block, a vCPU
+  // running slower than the other for a while (a slow moment, docs/terrain_shadow.md) held up the
+  // sweep's end with its block's records (docs/terrain_shadow_log.md, "Twenty-fifth round").
+  const int bands = std::clamp((8 + blocks - 1) / blocks, 1, region.height());
+  tbb::parallel_for(0, blocks * bands, [&](int task) {
+    const int block = task / bands, band = task % bands;
     const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
-    const float* const block_planes = planes + static_cast<std::size_t>(k0) * count;
+    const int y0 = region.y0 + region.height() * band / bands;
+    const int y1 = region.y0 + region.height() * (band + 1) / bands;
+    const TexelRect rows{region.x0, y0, region.x1, y1};
+    // This band's first texel in the planes (region-sized, row-major).
+    const float* const band_planes = planes + static_cast<std::size_t>(k0) * count +
+                                     static_cast<std::size_t>(y0 - region.y0) * region.width();
 #ifdef __AVX2__
-    detail::texel_records(block_planes, count, region, k0, k1, out);
+    detail::texel_records(band_planes, count, rows, k0, k1, out);
 #else
     std::size_t i = 0;
-    for (int y = region.y0; y < region.y1; ++y)
-      for (int x = region.x0; x < region.x1; ++x, ++i) {
+    for (int y = rows.y0; y < rows.y1; ++y)
+      for (int x = rows.x0; x < rows.x1; ++x, ++i) {
         float* dst = out.texel(x, y) + k0;
-        for (int k = k0; k < k1; ++k) dst[k - k0] = block_planes[(k - k0) * count + i];
+        for (int k = k0; k < k1; ++k) dst[k - k0] = band_planes[(k - k0) * count + i];
       }
 #endif
   });
