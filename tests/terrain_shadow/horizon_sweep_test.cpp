@@ -289,6 +289,27 @@ TEST(HorizonSweep, RegionUpdateEqualsFullUpdateInsideIt) {
       }
 }
 
+TEST(HorizonSweep, ThinRegionsEqualTheFullSweepInsideThem) {
+  // The records pass splits each block of azimuths into bands of rows, at least eight tasks
+  // (horizon_sweep.cpp): regions with fewer rows than that (one band a row) and of one column
+  // still take every texel's record from its own row of the planes.
+  const auto f = unit_cell_mountains(40, 3);
+  HorizonParams p;
+  p.azimuths = 16;  // two blocks of 8: four bands a block where the region has the rows
+  HorizonGrid full;
+  sweep_horizons(f, p, TexelRect::all(f), full);
+  for (const TexelRect r : {TexelRect{4, 9, 36, 10}, TexelRect{2, 20, 31, 23},
+                            TexelRect{6, 30, 39, 35}, TexelRect{17, 1, 18, 38}}) {
+    HorizonGrid part;
+    sweep_horizons(f, p, r, part);
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x)
+        for (int k = 0; k < p.azimuths; ++k)
+          ASSERT_EQ(part.texel(x, y)[k], r.contains(x, y) ? full.texel(x, y)[k] : 0.0f)
+              << r.x0 << "," << r.y0 << " " << x << "," << y << "," << k;
+  }
+}
+
 TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
   // From 256^2 texels, with 32 azimuths on 2 threads, tasks take 16 azimuths and write each
   // texel's record lines whole with streaming stores; regions of a quarter of that take 8 and
@@ -309,9 +330,9 @@ TEST(HorizonSweep, LargeFieldsWholeLineRecordsEqualQuarterRegions) {
 }
 
 TEST(HorizonSweep, TheThreadCountChangesNoBit) {
-  // Every azimuth is a task of its own and the records are written per block after them
-  // (horizon_sweep.cpp): on 1, 2 and 3 threads (blocks of 16 azimuths, then of 8, since 32 / 16
-  // < 3), through one workspace, the same horizons bit for bit.
+  // Every azimuth is a task of its own and the records are written per block and band of rows
+  // after them (horizon_sweep.cpp): on 1, 2 and 3 threads (blocks of 16 azimuths, then of 8, since
+  // 32 / 16 < 3), through one workspace, the same horizons bit for bit.
   const auto f = unit_cell_mountains(264, 21);
   HorizonParams p;
   p.azimuths = 32;
