@@ -345,6 +345,27 @@ TEST(HorizonSweep, TheThreadCountChangesNoBit) {
   EXPECT_EQ(grids[0].angles, grids[2].angles);
 }
 
+TEST(HorizonSweep, PlanesKeptWhereTheirThreadsWroteThemChangeNoBit) {
+  // Each azimuth goes into a plane slot that the sweeping thread wrote in the last sweep, so
+  // which slot holds which azimuth changes with the threads and the scheduler, and the records
+  // read each azimuth from its slot (horizon_sweep.cpp, PlaneSlots). One workspace through
+  // sweeps on 3, 2, 1, 2, 3 and 2 threads (32 azimuths: blocks of 8 on 3 threads, of 16 on
+  // fewer; 20 azimuths: a last block of 4), each equal to a fresh one-thread sweep bit for bit.
+  const auto f = unit_cell_mountains(264, 23);
+  for (int azimuths : {32, 20}) {
+    HorizonParams p;
+    p.azimuths = azimuths;
+    HorizonGrid expected;
+    tbb::task_arena(1).execute([&] { sweep_horizons(f, p, TexelRect::all(f), expected); });
+    SweepWorkspace ws;
+    for (int threads : {3, 2, 1, 2, 3, 2}) {
+      HorizonGrid grid;
+      tbb::task_arena(threads).execute([&] { sweep_horizons(f, p, TexelRect::all(f), grid, ws); });
+      ASSERT_EQ(grid.angles, expected.angles) << azimuths << " azimuths, " << threads << " threads";
+    }
+  }
+}
+
 TEST(HorizonSweep, EditsInTurnResumeFromKeptHullsBitForBit) {
   // One workspace through a run of edits: the same box again, moved along x and y both ways,
   // far away, back. Each edit's line groups resume from the hulls the edits before left where

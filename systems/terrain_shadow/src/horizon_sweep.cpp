@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
 #include <tbb/task_arena.h>
 
 #include "fast_math.h"
@@ -171,6 +173,7 @@ struct SweepWorkspace::Buffers {
   };
   tbb::enumerable_thread_specific<Task> tasks;
   std::vector<float, CacheLineAllocator<float>> planes;
+  std::vector<int> plane_writer;  // per plane slot, the arena thread that wrote it last (-1: none)
 #ifdef __AVX2__
   detail::LaneFields fields;
   // Per azimuth, the line groups' hulls that edits left (sweep_lanes.h, GroupHull): valid for
@@ -204,6 +207,65 @@ namespace {
 
 // kLanes: sixteen lines per step on AVX2 lanes (sweep_lanes.h); kScalar: one line at a time.
 enum class Kernel { kScalar, kLanes };
+
+// Which plane slot holds which azimuth in one sweep. A thread takes a slot that it wrote in the
+// last sweep where one is free: a plane the other vCPU wrote, or read for the records, is in
+// that vCPU's caches, and writing it costs a trip between the two for every line (with the
+// azimuths handed out so that every plane had changed sides, the sweep took 17% longer on two
+// threads: docs/terrain_shadow_log.md, "Twenty-sixth round"). Which thread sweeps which azimuth
+// stays the scheduler's choice. take() is thread-safe; keep() after the sweep's loop.
+class PlaneSlots {
+ public:
+  // last_writer: per slot, the arena thread that wrote it in the last sweep (-1: none).
+  PlaneSlots(std::vector<int>& last_writer, int azimuths)
+      : last_(last_writer),
+        taken_(std::make_unique<std::atomic<bool>[]>(static_cast<std::size_t>(azimuths))),
+        slot_of_(static_cast<std::size_t>(azimuths)),
+        writer_(static_cast<std::size_t>(azimuths), -1) {
+    if (last_.size() != writer_.size()) last_.assign(writer_.size(), -1);
+  }
+  // A free slot for azimuth k, swept by arena thread `me`: one `me` wrote last time if any.
+  std::size_t take(int k, int me) {
+    for (int pass = 0; pass < 2; ++pass)
+      for (std::size_t s = 0; s < writer_.size(); ++s)
+        if ((pass == 1 || last_[s] == me) && !taken_[s].exchange(true, std::memory_order_relaxed)) {
+          slot_of_[static_cast<std::size_t>(k)] = s;
+          writer_[s] = me;
+          return s;
+        }
+    throw std::logic_error("PlaneSlots: more azimuths than slots");
+  }
+  std::size_t slot(int k) const { return slot_of_[static_cast<std::size_t>(k)]; }
+  int writer(int k) const { return writer_[slot(k)]; }
+  void keep() { last_ = writer_; }
+
+ private:
+  std::vector<int>& last_;
+  std::unique_ptr<std::atomic<bool>[]> taken_;
+  std::vector<std::size_t> slot_of_;
+  std::vector<int> writer_;
+};
+
+// body(task) for every task in [0, n) on the arena's threads: each thread first the tasks whose
+// home(task) is its arena index, front to back, then the others from the back (where their own
+// threads take them last).
+template <class Home, class Body>
+void run_home_first(int n, const Home& home, const Body& body) {
+  const auto taken = std::make_unique<std::atomic<bool>[]>(static_cast<std::size_t>(n));
+  const int workers = std::clamp(tbb::this_task_arena::max_concurrency(), 1, n);
+  tbb::parallel_for(
+      tbb::blocked_range<int>(0, workers, 1),
+      [&](const tbb::blocked_range<int>&) {
+        const int me = tbb::this_task_arena::current_thread_index();
+        for (int i = 0; i < 2 * n; ++i) {
+          const int task = i < n ? i : 2 * n - 1 - i;
+          if ((home(task) == me) == (i < n) &&
+              !taken[static_cast<std::size_t>(task)].exchange(true, std::memory_order_relaxed))
+            body(task);
+        }
+      },
+      tbb::simple_partitioner());
+}
 
 void sweep(const data::HeightField& field, const HorizonParams& params, const TexelRect& region,
            HorizonGrid& out, Kernel kernel, SweepWorkspace::Buffers& ws) {
@@ -240,11 +302,13 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   const std::size_t count = region.count();
   ws.planes.resize(static_cast<std::size_t>(params.azimuths) * count);
   float* const planes = ws.planes.data();
+  PlaneSlots slots(ws.plane_writer, params.azimuths);
   tbb::parallel_for(
       tbb::blocked_range<int>(0, params.azimuths, 1), [&](const tbb::blocked_range<int>& ks) {
         SweepWorkspace::Buffers::Task& task = ws.tasks.local();  // this thread's scratch
         for (int k = ks.begin(); k < ks.end(); ++k) {
-          float* plane = planes + static_cast<std::size_t>(k) * count;
+          float* plane =
+              planes + slots.take(k, tbb::this_task_arena::current_thread_index()) * count;
 #ifdef __AVX2__
           if (kernel == Kernel::kLanes) {
             detail::sweep_azimuth_lanes(field, ws.fields, params, region, k, task.lanes, plane);
@@ -254,30 +318,46 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
           sweep_azimuth(field, params, region, k, task.scalar, plane);
         }
       });
+  slots.keep();
   // The records in bands of rows as well, at least eight tasks: with one task a block, a vCPU
   // running slower than the other for a while (a slow moment, docs/terrain_shadow.md) held up the
-  // sweep's end with its block's records (docs/terrain_shadow_log.md, "Twenty-fifth round").
+  // sweep's end with its block's records (docs/terrain_shadow_log.md, "Twenty-fifth round"). A
+  // block's bands go first to the thread that wrote most of its planes: they are in its caches,
+  // and the next sweep's writes find them there.
   const int bands = std::clamp((8 + blocks - 1) / blocks, 1, region.height());
-  tbb::parallel_for(0, blocks * bands, [&](int task) {
-    const int block = task / bands, band = task % bands;
-    const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
-    const int y0 = region.y0 + region.height() * band / bands;
-    const int y1 = region.y0 + region.height() * (band + 1) / bands;
-    const TexelRect rows{region.x0, y0, region.x1, y1};
-    // This band's first texel in the planes (region-sized, row-major).
-    const float* const band_planes = planes + static_cast<std::size_t>(k0) * count +
-                                     static_cast<std::size_t>(y0 - region.y0) * region.width();
+  std::vector<int> home(static_cast<std::size_t>(blocks));
+  for (int b = 0; b < blocks; ++b) {
+    std::vector<int> wrote(static_cast<std::size_t>(tbb::this_task_arena::max_concurrency()), 0);
+    for (int k = b * block_size; k < std::min((b + 1) * block_size, params.azimuths); ++k)
+      if (const int t = slots.writer(k); t >= 0 && t < std::ssize(wrote))
+        ++wrote[static_cast<std::size_t>(t)];
+    home[static_cast<std::size_t>(b)] =
+        static_cast<int>(std::max_element(wrote.begin(), wrote.end()) - wrote.begin());
+  }
+  run_home_first(
+      blocks * bands, [&](int task) { return home[static_cast<std::size_t>(task / bands)]; },
+      [&](int task) {
+        const int block = task / bands, band = task % bands;
+        const int k0 = block * block_size, k1 = std::min(k0 + block_size, params.azimuths);
+        const int y0 = region.y0 + region.height() * band / bands;
+        const int y1 = region.y0 + region.height() * (band + 1) / bands;
+        const TexelRect rows{region.x0, y0, region.x1, y1};
+        // This band's first texel in each azimuth's plane (region-sized, row-major).
+        const float* band_planes[16];
+        for (int k = k0; k < k1; ++k)
+          band_planes[k - k0] = planes + slots.slot(k) * count +
+                                static_cast<std::size_t>(y0 - region.y0) * region.width();
 #ifdef __AVX2__
-    detail::texel_records(band_planes, count, rows, k0, k1, out);
+        detail::texel_records(band_planes, rows, k0, k1, out);
 #else
-    std::size_t i = 0;
-    for (int y = rows.y0; y < rows.y1; ++y)
-      for (int x = rows.x0; x < rows.x1; ++x, ++i) {
-        float* dst = out.texel(x, y) + k0;
-        for (int k = k0; k < k1; ++k) dst[k - k0] = band_planes[(k - k0) * count + i];
-      }
+        std::size_t i = 0;
+        for (int y = rows.y0; y < rows.y1; ++y)
+          for (int x = rows.x0; x < rows.x1; ++x, ++i) {
+            float* dst = out.texel(x, y) + k0;
+            for (int k = k0; k < k1; ++k) dst[k - k0] = band_planes[k - k0][i];
+          }
 #endif
-  });
+      });
 }
 
 }  // namespace

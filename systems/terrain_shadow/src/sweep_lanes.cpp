@@ -130,7 +130,7 @@ TexelRect LaneFields::update(const data::HeightField& f) {
   return d.x0 < d.x1 ? d : TexelRect{};
 }
 
-void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
+void texel_records(const float* const* planes, const TexelRect& r, int k0, int k1,
                    HorizonGrid& out) {
   std::size_t i = 0;
   const bool blocks = (k1 - k0) % 8 == 0;
@@ -144,8 +144,8 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
       for (; x + 8 <= r.x1; x += 8, i += 8) {
         __m256 m[8], n[8];
         for (int k = 0; k < 8; ++k) {
-          m[k] = _mm256_loadu_ps(planes + k * count + i);
-          n[k] = _mm256_loadu_ps(planes + (8 + k) * count + i);
+          m[k] = _mm256_loadu_ps(planes[k] + i);
+          n[k] = _mm256_loadu_ps(planes[8 + k] + i);
         }
         transpose8(m);
         transpose8(n);
@@ -159,12 +159,12 @@ void texel_records(const float* planes, std::size_t count, const TexelRect& r, i
       for (; x + 8 <= r.x1; x += 8, i += 8)
         for (int kb = 0; kb < k1 - k0; kb += 8) {
           __m256 m[8];
-          for (int k = 0; k < 8; ++k) m[k] = _mm256_loadu_ps(planes + (kb + k) * count + i);
+          for (int k = 0; k < 8; ++k) m[k] = _mm256_loadu_ps(planes[kb + k] + i);
           transpose8(m);
           for (int l = 0; l < 8; ++l) _mm256_storeu_ps(out.texel(x + l, y) + k0 + kb, m[l]);
         }
     for (; x < r.x1; ++x, ++i)
-      for (int k = k0; k < k1; ++k) out.texel(x, y)[k] = planes[(k - k0) * count + i];
+      for (int k = k0; k < k1; ++k) out.texel(x, y)[k] = planes[k - k0][i];
   }
   if (lines) _mm_sfence();  // the streaming stores visible before the task ends
 }

@@ -104,10 +104,10 @@ void sweep_direction_lanes(const data::HeightField& f, const LaneFields& fields,
                            float* plane);
 
 // Writes the planes of azimuths [k0, k1) into the records of r's texels in `out`: plane k at
-// planes + (k - k0) * count holds r's texels row-major in x, y (a region-sized plane, or one
-// offset to the first of r's rows when r is a band of whole rows of it); 8 x 8 blocks transposed
-// in registers when k1 - k0 is a multiple of 8.
-void texel_records(const float* planes, std::size_t count, const TexelRect& r, int k0, int k1,
+// planes[k - k0] holds r's texels row-major in x, y (a region-sized plane, or one offset to the
+// first of r's rows when r is a band of whole rows of it); 8 x 8 blocks transposed in registers
+// when k1 - k0 is a multiple of 8.
+void texel_records(const float* const* planes, const TexelRect& r, int k0, int k1,
                    HorizonGrid& out);
 
 // Recomputes azimuth k of every texel whose sweep lines pass within a sample of `edited`,
