@@ -77,7 +77,12 @@ def build_variant(rev, patch, jobs):
     if not os.path.isdir(src):
         run(["git", "worktree", "add", "--detach", "--force", src, commit], cwd=ROOT)
         if patch_path:
-            run(["git", "apply", patch_path], cwd=src)
+            try:
+                run(["git", "apply", patch_path], cwd=src)
+            except AbError:
+                # Not left behind: the next run would find the tree and build it unpatched.
+                run(["git", "worktree", "remove", "--force", src], cwd=ROOT)
+                raise
     if not os.path.exists(os.path.join(build, "build.ninja")):
         run(["cmake", "-S", src, "-B", build, "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release"])
     run(["cmake", "--build", build, "-j", str(jobs), "--target", "terrain_ab_time"])

@@ -2,14 +2,16 @@
 """Checks scripts/terrain_ab.py with made-up programs in place of terrain_ab_time (ctest
 terrain_ab_fixture).
 
-    python3 tests/bench/check_terrain_ab.py scripts/terrain_ab.py WORKDIR
+    python3 tests/bench/check_terrain_ab.py scripts/terrain_ab.py WORKDIR [TERRAIN_AB_TIME]
 
 Three fake programs print a terrain_ab_time line each call: a baseline (10 ms one thread, 5 ms
 two), one 10% faster on one thread and 10% slower on two with the baseline's hash, and one with
 another hash; each call also logs its name, so the order of the rounds can be checked. Checked:
 the paired ratios (0.900 and 1.100, the spread of a ratio that varies by round), the hash verdicts,
 the order (as given, then reversed), and that a program printing something else, a missing
-program and a single variant each stop it with exit code 2 and a message naming the cause.
+program and a single variant each stop it with exit code 2 and a message naming the cause. With
+TERRAIN_AB_TIME (the real program), one round of its `light` case against itself: a line the
+script reads, and the same hash twice.
 """
 import os
 import stat
@@ -91,6 +93,13 @@ def main():
     r = call(script, "HEAD:" + os.path.join(work, "no.patch"), f"base={base}")
     check(r.returncode == 2 and "no such file" in r.stderr,
           f"a patch that does not exist: exit {r.returncode}, {r.stderr!r}")
+
+    if len(sys.argv) > 3:
+        real = sys.argv[3]
+        r = call(script, "--case", "light", "--rounds", "1", "--reps", "1", f"a={real}",
+                 f"b={real}")
+        check(r.returncode == 0 and "(same)" in r.stdout,
+              f"terrain_ab_time against itself: exit {r.returncode}, {r.stdout!r} {r.stderr!r}")
 
     for f in failures:
         print("FAILED:", f)
