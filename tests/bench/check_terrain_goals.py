@@ -61,6 +61,12 @@ def main():
                 errors.append(f"{goal}: '{p}' not in '{lines.get(goal)}'")
     if "all six goals met in 2 of 3 runs" not in out.stdout:
         errors.append("all-six count: " + out.stdout)
+    # The explanation follows only where a reading was slow.
+    if "slow: a probe around the case" not in out.stdout:
+        errors.append("no slow-moment line after slow readings")
+    quiet_only = subprocess.run([sys.executable, script, paths[0]], capture_output=True, text=True)
+    if quiet_only.returncode != 0 or "slow: a probe" in quiet_only.stdout:
+        errors.append(f"quiet run alone: exit {quiet_only.returncode}, '{quiet_only.stdout}'")
     bad = os.path.join(work, "bad.json")
     with open(bad, "w") as f:
         f.write("{not json")
