@@ -297,7 +297,8 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
   // in cache.
   const bool wide = region.count() >= 256 * 256 &&
                     params.azimuths / 16 >= tbb::this_task_arena::max_concurrency();
-  const int block_size = wide ? 16 : 8;
+  constexpr int kWideBlock = 16;
+  const int block_size = wide ? kWideBlock : 8;
   const int blocks = (params.azimuths + block_size - 1) / block_size;
   const std::size_t count = region.count();
   ws.planes.resize(static_cast<std::size_t>(params.azimuths) * count);
@@ -343,7 +344,7 @@ void sweep(const data::HeightField& field, const HorizonParams& params, const Te
         const int y1 = region.y0 + region.height() * (band + 1) / bands;
         const TexelRect rows{region.x0, y0, region.x1, y1};
         // This band's first texel in each azimuth's plane (region-sized, row-major).
-        const float* band_planes[16];
+        const float* band_planes[kWideBlock];
         for (int k = k0; k < k1; ++k)
           band_planes[k - k0] = planes + slots.slot(k) * count +
                                 static_cast<std::size_t>(y0 - region.y0) * region.width();
